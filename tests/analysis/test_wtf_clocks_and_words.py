@@ -464,6 +464,32 @@ def test_wtfs_header_gives_the_stamps_span_where_the_record_times_are_no_clock(t
     assert resumed.stamped == void.stamped
 
 
+def test_view_frames_and_report_give_the_stamps_span_where_the_record_times_are_no_clock() -> None:
+    """The Logistic coBot's view-frames legend said "Recorded at time: 0.000 to 0.000 (0.000 s)" and its report's
+    "Recorded" the same: where the record times are no clock, both give the span wtf's header gives (its
+    ``stamped``), in monitor's words, said to be tf's stamps' (report's "tf stamps" row, the same span, goes);
+    where the record times are a clock, the record span and tf's stamps' as before."""
+    from tftools.analysis.report import recording_facts
+    from tftools.render.graph import recording_legend
+
+    read = recording(_no_record_clock(), ros1=False)
+    stamped = check(read).stamped
+    assert stamped is not None
+    first, last = stamped
+    seconds = f"{(last - first) / NS_PER_S:.3f} s from {first / NS_PER_S:.3f} to {last / NS_PER_S:.3f}"
+    over = f"tf stamped over {seconds} (the record times are no clock)"
+    assert recording_legend(read)[0] == over, recording_legend(read)
+    facts = dict(recording_facts(read))
+    assert facts["Recorded"] == over and "tf stamps" not in facts, facts
+    clocked = recording(healthy(), ros1=False)
+    span = (clocked.end - clocked.start) / NS_PER_S
+    assert recording_legend(clocked)[0] == (
+        f"Recorded at time: {clocked.start / NS_PER_S:.3f} to {clocked.end / NS_PER_S:.3f} ({span:.3f} s)"
+    )
+    facts = dict(recording_facts(clocked))
+    assert facts["Recorded"].endswith(f"({span:.3f} s, record clock)") and "tf stamps" in facts, facts
+
+
 def test_a_silence_timed_by_no_clock_is_unknown_wherever_it_is_shown(tmp_path: Path) -> None:
     """monitor -f json on that recording said "silent_s": 0.0 for every edge, though its record times time nothing
     (RWR's last stamp is 4.75 s before FWL's): unknown, null in JSON, "unknown" in a /diagnostics status, and no

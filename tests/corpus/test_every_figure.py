@@ -184,6 +184,33 @@ def _differ(
     ]
 
 
+#: A time as report gives it, with its UTC date where it counts from the epoch.
+WHEN = r"([\d.]+)(?: \([^)]*\))?"
+
+
+def _recorded_span(bag: dict[str, Any], dot: str, facts: str) -> list[str]:
+    """Where view-frames' legend and report's facts give another span than wtf: its record span (``start`` to
+    ``end``), or where the record times are no clock, tf's stamps' (``stamped``), said to be theirs as wtf says it."""
+    if bag["stamped"] is None:
+        first, last = bag["start"], bag["end"]
+        said = {
+            "view-frames": re.search(r"Recorded at time: ([\d.]+) to ([\d.]+) \(([\d.]+) s\)", dot),
+            "report": re.search(rf"Recorded\|+{WHEN} to {WHEN} \(([\d.]+) s", facts),
+        }
+        groups = (1, 2, 3)
+    else:
+        first, last = bag["stamped"]["start"], bag["stamped"]["end"]
+        over = rf"tf stamped over ([\d.]+) s from {WHEN} to {WHEN} \(the record times are no clock\)"
+        said = {"view-frames": re.search(over, dot), "report": re.search(rf"Recorded\|+{over}", facts)}
+        groups = (2, 3, 1)
+    figures = dict(zip(groups, (first, last, last - first), strict=True))
+    return [
+        f"recorded span: wtf {first} to {last}, {where} {m and m.group(0)}"
+        for where, m in said.items()
+        if m is None or not all(_shown(float(m.group(i)), v, 3) for i, v in figures.items())
+    ]
+
+
 def _compare(tfx: Tfx, path: Path, out: Path) -> list[str]:  # noqa: F811
     """Every figure that differs between the commands on the recording at ``path``."""
     watched = tfx("monitor", "-b", path, "-f", "json")
@@ -198,15 +225,7 @@ def _compare(tfx: Tfx, path: Path, out: Path) -> list[str]:  # noqa: F811
     page = (out / "page.html").read_text()
     captions, timelines = _report_captions(page)
     wrong = []
-    span = bag["end"] - bag["start"]
-    recorded = re.search(r"Recorded at time: ([\d.]+) to ([\d.]+) \(([\d.]+) s\)", (out / "tree.gv").read_text())
-    facts = html.unescape(re.sub(r"<[^>]+>", "|", page))
-    in_report = re.search(r"Recorded\|+([\d.]+)(?: \([^)]*\))? to ([\d.]+)(?: \([^)]*\))? \(([\d.]+) s", facts)
-    for where, m in (("view-frames", recorded), ("report", in_report)):
-        agrees = m is not None and all(
-            _shown(float(m.group(i)), v, 3) for i, v in ((1, bag["start"]), (2, bag["end"]), (3, span))
-        )
-        wrong += [] if agrees else [f"recorded span: wtf {bag['start']} to {bag['end']}, {where} {m and m.group(0)}"]
+    wrong += _recorded_span(bag, (out / "tree.gv").read_text(), html.unescape(re.sub(r"<[^>]+>", "|", page)))
     edges = {f"{row['parent']} -> {row['child']}": row for row in monitor["edges"]}
     for name, row in edges.items():
         frame = frames.get(name)

@@ -394,6 +394,24 @@ def test_wtfs_header_of_record_times_that_are_no_clock_gives_the_stamps_span(cor
     assert bag["stamped"] == {"start": 46.23, "end": 73.897} and bag["end"] - bag["start"] < 1e-6, bag
 
 
+def test_view_frames_and_report_of_record_times_that_are_no_clock_give_the_stamps_span(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The Logistic coBot's view-frames legend said "Recorded at time: 0.000 to 0.000 (0.000 s)" and its report's
+    "Recorded" "0.000 to 0.000 (0.000 s, record clock)": both now give wtf's span, in monitor's words, said to be
+    the stamps'."""
+    _, path = _recording(corpus, LOGISTIC)
+    over = "tf stamped over 27.667 s from 46.230 to 73.897 (the record times are no clock)"
+    _, legend = _view_frames_legend(tfx, path)
+    assert legend[0] == over and not [row for row in legend if "Recorded at time" in row], legend
+    page = tmp_path / "cobot.html"
+    tfx("report", "-b", path, "-o", page)
+    facts = html.unescape(re.sub(r"<[^>]+>", "|", page.read_text()))
+    assert re.search(r"\|Recorded\|+" + re.escape(over), facts) and "0.000 to 0.000" not in facts
+
+
 def test_multiple_parents_on_tf_static_is_not_an_object_picked_up(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """A calibration's /tf_static message sending box_base_model under two parents: tf2 keeps the last for every
     time; no 'object picked up' (a /tf re-parenting's story)."""

@@ -16,7 +16,7 @@ from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.cli.reading import open_recording, open_stream
 from tftools.core.frames import frame_name
 from tftools.core.semantics import Semantics
-from tftools.core.time import NS_PER_S, from_sec, to_sec
+from tftools.core.time import NS_PER_S, from_sec, span_from_to, to_sec
 
 if TYPE_CHECKING:  # the figures and their renderers load when a command runs: --help needs none of them (nor numpy)
     from rich.console import RenderableType
@@ -226,10 +226,10 @@ def _header(
     if own is not None and report.chain is not None:
         chain = f"{report.chain.target} to {report.chain.source}"
         # the span of its clock's tf (``Timeline.span_of``), which a frame seen late on it (a detection) starts after
-        return f"{', '.join(recording.paths)}: {chain} on a clock of its own, its tf stamped over {_span(*own)}"
+        return f"{', '.join(recording.paths)}: {chain} on a clock of its own, its tf stamped over {span_from_to(*own)}"
     first = report.start if windowed and report.start is not None else timeline.tf_start
     last = report.end if windowed and report.end is not None else timeline.tf_end
-    span = _span(first, last)
+    span = span_from_to(first, last)
     paths = ", ".join(recording.paths)
     # Sent on /tf, not static to tf2: a frame tf2 made static (its first transform on /tf_static) is still
     # a recording of moving transforms (the real neato_urdf_beside_driver: 2177 on /tf, all "static").
@@ -239,15 +239,11 @@ def _header(
         return f"{paths}: tf stamped over {span}"  # the stamps' span, not the record span wtf gives ("s recorded")
     # Static transforms only: the span of their stamps says nothing of the recording's (a 54 s drive whose
     # /tf_static was stamped in 0.449 s, 37 s before recording began).
-    one = last - first < NS_PER_S // 1000  # what ``_span`` shows as "0.000 s from t to t"
+    one = last - first < NS_PER_S // 1000  # what ``span_from_to`` shows as "0.000 s from t to t"
     statics = f"static transforms only, stamped {f'at {to_sec(first):.3f}' if one else span}"
     start, end = recording.start, recording.end
     if start <= 0 or end < start:  # no record times: the stamps are all there is
         return f"{paths}: {statics}"
     latest = "" if one else " the latest"
     before = f",{latest} {(start - last) / NS_PER_S:.1f} s before recording began" if last < start else ""
-    return f"{paths}: recorded {_span(start, end)}; {statics}{before}"
-
-
-def _span(first: int, last: int) -> str:
-    return f"{(last - first) / NS_PER_S:.3f} s from {to_sec(first):.3f} to {to_sec(last):.3f}"
+    return f"{paths}: recorded {span_from_to(start, end)}; {statics}{before}"

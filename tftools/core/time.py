@@ -76,6 +76,11 @@ def duration(seconds: float) -> str:
     return f"{seconds / 86400:.1f} days"
 
 
+def span_from_to(first: int, last: int) -> str:
+    """A span of time as the commands' headers give it: "27.667 s from 46.230 to 73.897" (ns in)."""
+    return f"{(last - first) / NS_PER_S:.3f} s from {to_sec(first):.3f} to {to_sec(last):.3f}"
+
+
 def duration_to_sec(ns: int) -> float:
     """Seconds as ROS 2's tf2 computes them (``tf2::durationToSec``, ``timeToSec``).
 

@@ -14,10 +14,10 @@ from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, causes, counted, tallied
 from tftools.analysis.graph import FrameGraph, GraphEdge, GraphNode
 from tftools.core.figures import age_in_words, apart_in_words, seconds
-from tftools.core.time import NS_PER_S, format_sec
+from tftools.core.time import NS_PER_S, format_sec, span_from_to
 from tftools.render.escape import is_printable, printable
 from tftools.sources.recording import Recording
-from tftools.sources.timeline import OTHER_CLOCK, Reference
+from tftools.sources.timeline import NO_RECORD_CLOCK, OTHER_CLOCK, Reference
 
 #: The first line of every dot source tfx writes, to recognise its own files.
 SIGNATURE = "tfx view-frames"
@@ -44,11 +44,15 @@ FILLS = {Severity.error: "#fde2e1", Severity.warning: "#fff0d9", Severity.info: 
 
 
 def recording_legend(recording: Recording) -> list[str]:
-    """What the legend says of a recording: its time span, as view_frames' "Recorded at time", and
-    its files (or the live system it listened to)."""
-    span = (recording.end - recording.start) / NS_PER_S
-    lines = [f"Recorded at time: {format_sec(recording.start, 3)} to {format_sec(recording.end, 3)} ({span:.3f} s)"]
+    """What the legend says of a recording: its time span, as view_frames' "Recorded at time" (tf's stamps' where
+    the record times are no clock: ``Timeline.stamped``), and its files (or the live system it listened to)."""
     timeline = recording.timeline
+    if timeline.stamped is not None:
+        lines = [f"tf stamped over {span_from_to(*timeline.stamped)} ({NO_RECORD_CLOCK})"]
+    else:
+        span = (recording.end - recording.start) / NS_PER_S
+        start, end = format_sec(recording.start, 3), format_sec(recording.end, 3)
+        lines = [f"Recorded at time: {start} to {end} ({span:.3f} s)"]
     if timeline.reference is Reference.CLOCK:
         lines.append(f"Ages on {timeline.clock.topic} (simulated time) at the end: {format_sec(timeline.end, 3)}")
     elif timeline.reference is Reference.NONE:

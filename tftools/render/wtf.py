@@ -18,6 +18,7 @@ from tftools.analysis.wtf.fleet_report import Verdict, recordings_per_day, tally
 from tftools.core.time import NS_PER_S
 from tftools.render import jsonl
 from tftools.render.escape import printable
+from tftools.sources.timeline import NO_RECORD_CLOCK
 
 _MARKS = {Severity.error: ("✗", "bold red"), Severity.warning: ("!", "yellow"), Severity.info: ("·", "cyan")}
 
@@ -95,7 +96,7 @@ def _span(bag: BagReport) -> str:
     (a script's writer that recorded every message within 74 ns: "0.0 s recorded" would say nothing true)."""
     if bag.stamped is not None:
         first, last = bag.stamped
-        return f"tf stamped over {(last - first) / NS_PER_S:.1f} s (the record times are no clock)"
+        return f"tf stamped over {(last - first) / NS_PER_S:.1f} s ({NO_RECORD_CLOCK})"
     return f"{(bag.end - bag.start) / NS_PER_S:.1f} s recorded"
 
 

@@ -38,6 +38,8 @@ from tftools.values import value
 #: An edge's delay where its stamps are on another clock than its arrivals' (``Timeline.on_other_clock``): the one
 #: wording of ``monitor`` (text and JSON) and ``report``.
 OTHER_CLOCK = "not measurable: another clock"
+#: Why a recording's span is its tf's stamps' (``Timeline.stamped``): the words every command says it in.
+NO_RECORD_CLOCK = "the record times are no clock"
 #: Two clocks more than this apart (the median of arrival minus stamp) are different clocks, not a delay.
 SAME_CLOCK = 10 * NS_PER_S
 #: A clock that ticks in steps up to this long measures delays; a coarser one (a /clock at 10 Hz, or at
@@ -334,6 +336,13 @@ class Timeline:
     def record_clock_void(self) -> bool:
         """Whether the record times are no clock at all (``no_record_clock``)."""
         return no_record_clock(self.edges, self.record_start, self.record_end)
+
+    @property
+    def stamped(self) -> tuple[int, int] | None:
+        """tf's first and last stamp (``tf_start``, ``tf_end``) where the record times are no clock
+        (``record_clock_void``): the only span such a recording tells, which wtf's header, view-frames' legend and
+        report's facts give instead of a record span of nanoseconds; None where the record times are a clock."""
+        return (self.tf_start, self.tf_end) if self.record_clock_void else None
 
     @property
     def available(self) -> bool:
@@ -724,7 +733,7 @@ def no_record_clock(edges: Sequence[EdgeClock], record_start: int, record_end: i
 def _why_no_record_clock(edges: Sequence[EdgeClock], record_start: int, record_end: int) -> str:
     spread = max(e.last_stamp - e.first_stamp for e in edges) / NS_PER_S
     return (
-        f"the record times are no clock: {sum(e.arrivals for e in edges):,} transforms recorded within "
+        f"{NO_RECORD_CLOCK}: {sum(e.arrivals for e in edges):,} transforms recorded within "
         f"{record_end - record_start} ns of one another (at {record_start} ns) while tf's stamps span {spread:.1f} s "
         "(the recorder stored something else as receive times): delays, ages and staleness against arrival "
         "cannot be measured"

@@ -28,7 +28,7 @@ from tftools.analysis.wtf.fleet import checked_scene
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S, format_sec, from_sec
 from tftools.sources.contents import StampedMessages, global_name
 from tftools.sources.recording import Recording
-from tftools.sources.timeline import Reference
+from tftools.sources.timeline import NO_RECORD_CLOCK, Reference
 
 #: What the tf2 semantics are called on the page.
 TF2_NAMES = {"ros1": "ROS 1's (Noetic)", "ros2": "ROS 2's (Rolling, Jazzy)"}
@@ -149,8 +149,6 @@ def _axis(recording: Recording, streams: Sequence[StampedMessages]) -> tuple[int
 def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     """What the recording is: its files and formats, clocks, span and contents, and what could not be read."""
     contents, timeline, buffer = recording.contents, recording.timeline, recording.buffer
-    length = (recording.end - recording.start) / NS_PER_S
-    tf_length = (timeline.tf_end - timeline.tf_start) / NS_PER_S
     clocks = timeline.describe() + _off_clock(recording)
     if len(timeline.clock) and timeline.reference is not Reference.CLOCK:
         clocks += f"; {len(timeline.clock)} messages on {timeline.clock.topic} recorded"
@@ -159,8 +157,7 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
         ("Files", ", ".join(recording.paths)),
         ("Format", ", ".join(dict.fromkeys(f.format for f in contents.files))),
         ("tf2 semantics", TF2_NAMES.get(buffer.semantics, buffer.semantics)),
-        ("Recorded", f"{_when(recording.start)} to {_when(recording.end)} ({length:.3f} s, record clock)"),
-        ("tf stamps", f"{_when(timeline.tf_start)} to {_when(timeline.tf_end)} ({tf_length:.3f} s)"),
+        *_spans(recording),
         ("Clocks", clocks),
         ("Transforms", _transforms(recording)),
         (
@@ -170,6 +167,22 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     ]
     facts += [("Could not read", problem) for problem in recording.problems]
     return facts
+
+
+def _spans(recording: Recording) -> list[tuple[str, str]]:
+    """The record span and tf's stamps' span; where the record times are no clock (``Timeline.stamped``), tf's
+    stamps' alone, the recording's one span, as wtf's header and view-frames' legend give it."""
+    timeline = recording.timeline
+    if timeline.stamped is not None:
+        first, last = timeline.stamped
+        over = f"{(last - first) / NS_PER_S:.3f} s from {_when(first)} to {_when(last)}"
+        return [("Recorded", f"tf stamped over {over} ({NO_RECORD_CLOCK})")]
+    length = (recording.end - recording.start) / NS_PER_S
+    tf_length = (timeline.tf_end - timeline.tf_start) / NS_PER_S
+    return [
+        ("Recorded", f"{_when(recording.start)} to {_when(recording.end)} ({length:.3f} s, record clock)"),
+        ("tf stamps", f"{_when(timeline.tf_start)} to {_when(timeline.tf_end)} ({tf_length:.3f} s)"),
+    ]
 
 
 def _transforms(recording: Recording) -> str:

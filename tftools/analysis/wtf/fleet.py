@@ -36,8 +36,8 @@ class BagReport:
     sensor_target: str = ""  # the frame that data was checked in
     sensor_target_reason: str = ""
     fetched: tuple[Fetched, ...] = ()  # of each file read by URL: what was fetched of it
-    #: tf's first and last stamp (ns, ``Timeline.tf_start``/``tf_end``) where the record times are no clock
-    #: (``Timeline.record_clock_void``: ``start`` to ``end`` spans nothing); None where they are one.
+    #: tf's first and last stamp (ns, ``Timeline.stamped``) where the record times are no clock (``start`` to
+    #: ``end`` spans nothing); None where they are one.
     stamped: tuple[int, int] | None = None
 
     @property
@@ -71,7 +71,7 @@ def check(recording: Recording, query: CheckQuery = CHECK_DEFAULTS) -> BagReport
         formats=tuple(dict.fromkeys(f.format for f in recording.contents.files)),
         start=recording.start,
         end=recording.end,
-        stamped=(timeline.tf_start, timeline.tf_end) if timeline.record_clock_void else None,
+        stamped=timeline.stamped,
         transforms=recording.transform_count,
         frames=len(recording.buffer.frames),
         fetched=tuple(f.fetched for f in recording.contents.files if f.fetched is not None),
