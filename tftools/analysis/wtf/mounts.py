@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tftools.analysis.differences import rotation_angle_deg
 from tftools.analysis.wtf.scene import Scene, and_joined
 from tftools.core.arrays import FloatArray
 from tftools.core.transform import Transform
@@ -54,7 +55,7 @@ def mount_between(scene: Scene, trees: dict[str, str]) -> Mount | None:
     translations = np.array([t.translation for t, _, _ in placed])
     apart = np.linalg.norm(translations - np.median(translations, axis=0), axis=1)
     middle = placed[int(np.argmin(apart))][0]
-    turned = max(_angle(middle.inverse() * t) for t, _, _ in placed)
+    turned = math.radians(max(rotation_angle_deg(middle.rotation, t.rotation) for t, _, _ in placed))
     spread = float(np.linalg.norm(translations - np.array(middle.translation), axis=1).max())
     if spread > MOUNT_SPREAD_M or turned > MOUNT_SPREAD_RAD:
         return None
@@ -97,11 +98,6 @@ def _transform(values: FloatArray) -> Transform:
     """A sample's ``EdgeHistory.values`` row (tx ty tz qx qy qz qw) as a transform."""
     tx, ty, tz, qx, qy, qz, qw = (float(v) for v in values)
     return Transform((tx, ty, tz), (qx, qy, qz, qw))
-
-
-def _angle(t: Transform) -> float:
-    """How far ``t`` turns (rad)."""
-    return 2.0 * math.acos(min(1.0, abs(t.rotation[3])))
 
 
 def _num(value: float, digits: int) -> str:
