@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <exception>
+#include <thread>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -50,21 +52,26 @@ using Decoded = std::tuple<Output<int64_t>, Output<int64_t>, Output<double>, Out
 // A wire as Python gives it: (encapsulation or -1, big_endian, origin, align, seq, signed_sec, nul, exact).
 using WireFields = std::tuple<int, bool, int64_t, int64_t, bool, bool, bool, bool>;
 
-Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::ndim<1>> starts,
-                          Input<int64_t, nb::ndim<1>> lengths, const std::vector<WireFields>& wire_fields,
-                          bool counted) {
+// A decode's inputs checked: its wires, and the rows it makes room for at first.
+struct Job {
+    std::vector<tfwire::Wire> wires;
+    size_t rows = 0;
+};
+
+Job checked(const Input<uint8_t, nb::ndim<1>>& raw, const Input<int64_t, nb::ndim<1>>& starts,
+            const Input<int64_t, nb::ndim<1>>& lengths, const std::vector<WireFields>& wire_fields, bool counted) {
     const auto n = static_cast<int64_t>(starts.shape(0));
     const auto size = static_cast<int64_t>(raw.shape(0));
     if (static_cast<int64_t>(lengths.shape(0)) != n) throw nb::value_error("decode_transforms: starts and lengths differ");
     if (wire_fields.empty()) throw nb::value_error("decode_transforms: no wire");
-    std::vector<tfwire::Wire> wires;
+    Job job;
     int64_t smallest = INT64_MAX;
     for (const auto& [encapsulation, big_endian, origin, align, seq, signed_sec, nul, exact] : wire_fields) {
         if (origin < 0 || align < 1 || (align & (align - 1)) != 0) {
             throw nb::value_error("decode_transforms: a wire without an origin, or an alignment not a power of 2");
         }
-        wires.push_back({encapsulation, big_endian, origin, align, seq, signed_sec, nul, exact});
-        smallest = std::min(smallest, wires.back().smallest());
+        job.wires.push_back({encapsulation, big_endian, origin, align, seq, signed_sec, nul, exact});
+        smallest = std::min(smallest, job.wires.back().smallest());
     }
     int64_t total = 0;
     for (int64_t i = 0; i < n; ++i) {
@@ -74,20 +81,84 @@ Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::nd
         }
         total += length;
     }
-    tfwire::Rows rows;
-    {
-        nb::gil_scoped_release unlocked;
-        // As many rows as the bytes can hold (payloads may overlap: no more than all the bytes).
-        rows.reserve(static_cast<size_t>(counted ? std::min(total, size) / smallest : n));
-        tfwire::Reader reader(raw.data(), std::move(wires), counted);
-        for (int64_t i = 0; i < n; ++i) reader.read(i, starts.data()[i], lengths.data()[i], rows);
-    }
+    // As many rows as the bytes can hold (payloads may overlap: no more than all the bytes).
+    job.rows = static_cast<size_t>(counted ? std::min(total, size) / smallest : n);
+    return job;
+}
+
+// The job's payloads read into ``rows``; touches no Python object (run without the GIL).
+void read_all(const uint8_t* raw, const int64_t* starts, const int64_t* lengths, int64_t n, Job&& job, bool counted,
+              tfwire::Rows& rows) {
+    rows.reserve(job.rows);
+    tfwire::Reader reader(raw, std::move(job.wires), counted);
+    for (int64_t i = 0; i < n; ++i) reader.read(i, starts[i], lengths[i], rows);
+}
+
+Decoded outputs(tfwire::Rows&& rows) {
     return {owned(std::move(rows.message)),         owned(std::move(rows.stamp)),
             owned(std::move(rows.translation), 3),  owned(std::move(rows.rotation), 4),
             owned(std::move(rows.parent)),          owned(std::move(rows.child)),
             owned(std::move(rows.name_start)),      owned(std::move(rows.name_length)),
             owned(std::move(rows.failed), 4)};
 }
+
+Decoded decode_transforms(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::ndim<1>> starts,
+                          Input<int64_t, nb::ndim<1>> lengths, const std::vector<WireFields>& wire_fields,
+                          bool counted) {
+    Job job = checked(raw, starts, lengths, wire_fields, counted);
+    tfwire::Rows rows;
+    {
+        nb::gil_scoped_release unlocked;
+        read_all(raw.data(), starts.data(), lengths.data(), static_cast<int64_t>(starts.shape(0)), std::move(job),
+                 counted, rows);
+    }
+    return outputs(std::move(rows));
+}
+
+// ``decode_transforms`` on a thread of its own, started at once; ``result`` waits for it. The inputs are
+// held (and so their bytes alive) until it is done; a reader goes on reading meanwhile (docs/performance.md,
+// "decoded on the other core").
+class Decoding {
+   public:
+    Decoding(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::ndim<1>> starts, Input<int64_t, nb::ndim<1>> lengths,
+             const std::vector<WireFields>& wire_fields, bool counted)
+        : raw_(std::move(raw)), starts_(std::move(starts)), lengths_(std::move(lengths)) {
+        Job job = checked(raw_, starts_, lengths_, wire_fields, counted);
+        const uint8_t* bytes = raw_.data();
+        const int64_t* at = starts_.data();
+        const int64_t* length = lengths_.data();
+        const auto n = static_cast<int64_t>(starts_.shape(0));
+        worker_ = std::thread([this, bytes, at, length, n, counted, job = std::move(job)]() mutable {
+            try {
+                read_all(bytes, at, length, n, std::move(job), counted, rows_);
+            } catch (...) {
+                failure_ = std::current_exception();
+            }
+        });
+    }
+    Decoding(const Decoding&) = delete;
+    Decoding& operator=(const Decoding&) = delete;
+    ~Decoding() {
+        if (worker_.joinable()) worker_.join();  // it holds no GIL: never waits for this one
+    }
+
+    Decoded result() {
+        if (!worker_.joinable()) throw nb::value_error("Decoding.result: taken already");
+        {
+            nb::gil_scoped_release unlocked;
+            worker_.join();
+        }
+        if (failure_) std::rethrow_exception(failure_);
+        return outputs(std::move(rows_));
+    }
+
+   private:
+    Input<uint8_t, nb::ndim<1>> raw_;
+    Input<int64_t, nb::ndim<1>> starts_, lengths_;
+    tfwire::Rows rows_;
+    std::exception_ptr failure_;
+    std::thread worker_;
+};
 
 using Matched = std::tuple<Output<bool>, Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>>;
 
@@ -221,6 +292,11 @@ PerRow per_row(Input<int64_t, nb::ndim<1>> messages, Input<int64_t, nb::ndim<1>>
 NB_MODULE(_wire, m) {
     m.doc() = "TFMessages of ROS1 and CDR decoded in bulk, each failure told (tftools.sources.codecs.wire.Reason).";
     m.def("decode_transforms", &decode_transforms, "raw"_a, "starts"_a, "lengths"_a, "wires"_a, "counted"_a);
+    nb::class_<Decoding>(m, "Decoding")
+        .def(nb::init<Input<uint8_t, nb::ndim<1>>, Input<int64_t, nb::ndim<1>>, Input<int64_t, nb::ndim<1>>,
+                      const std::vector<WireFields>&, bool>(),
+             "raw"_a, "starts"_a, "lengths"_a, "wires"_a, "counted"_a)
+        .def("result", &Decoding::result);
     m.def("match_records", &match_records, "raw"_a, "offsets"_a, "limits"_a, "cuts"_a, "header"_a, "conn_at"_a,
           "time_at"_a);
     m.def("per_row", &per_row, "messages"_a, "rows"_a, "times"_a, "channel_of"_a, "static_of"_a, "authority_of"_a);

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from tftools.core.rejection import RejectionCode
 from tftools.core.transform import Transform
 from tftools.sources.bag.contents import BagContents, BagFileInfo, RecordWindow, in_record_order
 from tftools.sources.bag.robot import ROBOT_TOPICS
+from tftools.sources.contents import SentMessages
 from tftools.sources.recording import read_recording, recording_of, recording_of_buffer
 
 SAMPLE_BAGS = Path(__file__).resolve().parents[2] / "sample_bags"
@@ -133,6 +135,63 @@ def test_a_whole_read_brings_in_the_buffers_block_as_it_reads(monkeypatch: pytes
     assert read_contents([bag], window=RecordWindow(0, 1 << 62)).room is None
     monkeypatch.setattr(messages, "_a_core_free", lambda: False)  # every core busy: its thread would slow the read
     assert read_contents([bag]).room is None
+
+
+@pytest.mark.parametrize("name", ["robot.bag", "robot_db3", "robot_mcap"])
+def test_payloads_decoded_on_another_thread_make_the_same_recording(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
+    """A whole read on two cores or more decodes a codec's payloads on another thread while it reads the next
+    (``SteppedDecoder.start``): every history, refusal, message count, sent message and problem is the one read
+    on one core. Every part is made one to start (``_ALONE_BYTES``: the sample's parts are too small), and the
+    ``.db3`` is fetched in many parts, each finished while the next is read. A windowed read (a replay's) and
+    one with every core busy decode on the reading thread."""
+    from tftools.sources.bag import messages
+    from tftools.sources.bag.rosbag2 import db3
+    from tftools.sources.codecs.stepped import Started, SteppedDecoder
+
+    bag = SAMPLE_BAGS / name
+    started: list[int] = []
+    start = SteppedDecoder.start
+
+    def counted(decoder: SteppedDecoder, *payloads: Any) -> Started:
+        started.append(1)
+        return start(decoder, *payloads)
+
+    monkeypatch.setattr(SteppedDecoder, "start", counted)
+    monkeypatch.setattr(messages, "_ALONE_BYTES", 1)
+    monkeypatch.setattr(db3, "_FETCH", 256)
+    monkeypatch.setattr(messages, "_a_core_free", lambda: True)
+    found = []
+    for cores in (1, 2):
+        monkeypatch.setattr(messages, "_cores", lambda cores=cores: cores)
+        started.clear()
+        recording = read_recording([bag])
+        assert len(started) >= (0 if cores == 1 else 5 if name == "robot_db3" else 1)
+        assert cores > 1 or not started
+        columns = ("stamps", "values", "parents", "authorities", "record_times", "sequence", "flags")
+        found.append(
+            (
+                [(child, [getattr(h, c).tobytes() for c in columns]) for child, h in recording.buffer.histories()],
+                batch_rows(recording.refused),
+                recording.refused_sequence.tolist(),
+                [(f.tf_messages, f.transform_count, f.problems) for f in recording.contents.files],
+                _sent(recording.contents.sent),
+            )
+        )
+    assert found[0] == found[1]
+    started.clear()
+    monkeypatch.setattr(messages, "_cores", lambda: 2)
+    read_contents([bag], window=RecordWindow(0, 1 << 62))
+    assert not started
+    monkeypatch.setattr(messages, "_a_core_free", lambda: False)
+    read_contents([bag])
+    assert not started
+
+
+def _sent(sent: SentMessages | None) -> object:
+    if sent is None:
+        return None
+    columns = (sent.authority, sent.static, sent.record_time, sent.stamp)
+    return list(sent.authorities), [c.tobytes() for c in columns]
 
 
 def test_parts_that_overlap_in_record_time_are_merged_in_order() -> None:

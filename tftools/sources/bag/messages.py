@@ -21,6 +21,8 @@ from tftools.sources.contents import ClockSamples, SentMessages, StampedMessages
 
 if TYPE_CHECKING:
     from tftools.core._kernels import Spare
+    from tftools.sources.codecs.decoded import Decoded
+    from tftools.sources.codecs.stepped import Started
 
 ChannelIds = int | Int32Array | Sequence[int]
 Unpack = Callable[[bytes], bytes]
@@ -52,6 +54,11 @@ def _a_core_free() -> bool:
         return running <= len(os.sched_getaffinity(0))
     except (OSError, ValueError, IndexError, AttributeError):
         return False
+
+
+def _cores() -> int:
+    """The cores this process may run on (elsewhere than Linux, not asked: one)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
 
 
 #: Payloads of one codec added together: their bytes, where each payload begins in them and how
@@ -110,6 +117,10 @@ class MessageSet:
         #: the rows read so far, brought in on another thread as they are read.
         self.room: Spare | None = None
         self._room_asked = False  # whether a core was asked for it (once)
+        #: A decode under way on another thread while the next payloads are read (``_started``), and its
+        #: messages' numbers; its rows are added and settled before anything else is decoded.
+        self._under_way: tuple[Started, Int64Array] | None = None
+        self._ahead: bool | None = None  # whether payloads are decoded ahead (``_started``), once asked
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -224,9 +235,10 @@ class MessageSet:
             lengths = np.minimum(lengths, HEADER_BYTES)
         if int(lengths.sum()) >= _ALONE_BYTES:
             self._decode_groups()  # those added before first: the rows stay in message order
-            self._decode(codec, np.frombuffer(data, np.uint8), starts, lengths, ids)
-            self._rows.settle()
-            self._room_ahead()
+            raw = np.frombuffer(data, np.uint8)
+            if not self._started(codec, raw, starts, lengths, ids):
+                self._decode(codec, raw, starts, lengths, ids)
+                self._settled()
             return
         piece, at = _copied(data, starts, lengths)
         self._groups.setdefault(codec, []).append((piece, at, lengths, ids))
@@ -246,16 +258,46 @@ class MessageSet:
                 self._unpack_failed.setdefault(int(channels[i]), []).append(reason)
         return kept, unpacked
 
+    def _started(self, number: int, raw: UInt8Array, starts: Int64Array, lengths: Int64Array, ids: Int64Array) -> bool:
+        """Whether codec ``number``'s payloads were started on another thread (``SteppedDecoder.start``), to be
+        finished by the next decode: where the whole file is read (a bulk load's: a window's reads stay as
+        they were) on two cores or more, one of them free when first asked, so that decoding them overlaps
+        reading the next. On one core, or every core taken, the thread would only take the reader's turns."""
+        from tftools.sources.codecs.stepped import SteppedDecoder  # imported already: the codec's module
+
+        codec = self._codecs[number]
+        if self.window is not None or not isinstance(codec, Codec) or not isinstance(codec.decode, SteppedDecoder):
+            return False
+        if self._ahead is None:
+            self._ahead = _cores() >= 2 and _a_core_free()
+        if not self._ahead:
+            return False
+        self._under_way = codec.decode.start(raw, starts, lengths), ids
+        return True
+
+    def _finish_under_way(self) -> None:
+        """The rows of the decode under way added and settled, as if decoded when it was started."""
+        if self._under_way is not None:
+            started, ids = self._under_way
+            self._under_way = None
+            self._add_decoded(ids, started.finish(self._rows.frames))
+            self._settled()
+
+    def _settled(self) -> None:
+        self._rows.settle()
+        self._room_ahead()
+
     def _decode_groups(self) -> None:
-        """Decode the payloads gathered so far into rows, each codec's at once, and let them go."""
+        """Decode the payloads gathered so far into rows, each codec's at once, and let them go (the decode
+        under way first)."""
+        self._finish_under_way()
         while self._groups:
             number, group = self._groups.popitem()
             raw, starts, lengths, ids = _joined(group)
             del group  # the pieces let go before decoding
             self._decode(number, raw, starts, lengths, ids)
-        self._rows.settle()
         self._pending_bytes = 0
-        self._room_ahead()
+        self._settled()
 
     def _room_ahead(self) -> None:
         """The block for the rows read so far, and a part's ahead, brought in (``room``), where the whole file
@@ -291,10 +333,14 @@ class MessageSet:
             failures = headers.failures
         else:
             assert not isinstance(codec, CopyCodec)  # their messages are handed on, never grouped
-            decoded = codec.decode(raw, starts, lengths, self._rows.frames)
-            self._rows.add_rows(_numbered(ids, decoded.message), decoded)
-            failures = decoded.failures
+            self._add_decoded(ids, codec.decode(raw, starts, lengths, self._rows.frames))
+            return
         self._failed += [(int(ids[row]), reason) for row, reason in failures]
+
+    def _add_decoded(self, ids: Int64Array, decoded: Decoded) -> None:
+        """The rows of messages ``ids`` decoded, and their failures."""
+        self._rows.add_rows(_numbered(ids, decoded.message), decoded)
+        self._failed += [(int(ids[row]), reason) for row, reason in decoded.failures]
 
     def decode(self) -> tuple[list[TransformBatch], ClockSamples, list[StampedMessages], list[str]]:
         """Every transform in record-time order, in consecutive batches; the clock; the headers of

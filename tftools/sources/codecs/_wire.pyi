@@ -5,9 +5,14 @@ from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, U
 #: A wire: (CDR encapsulation or -1, big endian, origin, align, seq, signed_sec, nul, exact), as ``wire.Wire``.
 WireFields = tuple[int, bool, int, int, bool, bool, bool, bool]
 
+#: What ``decode_transforms`` gives.
+Columns = tuple[
+    Int64Array, Int64Array, FloatArray, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, Int64Array
+]
+
 def decode_transforms(
     raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: list[WireFields], counted: bool
-) -> tuple[Int64Array, Int64Array, FloatArray, FloatArray, Int32Array, Int32Array, Int64Array, Int64Array, Int64Array]:
+) -> Columns:
     """The payloads ``raw[starts[i] : starts[i] + lengths[i]]`` read field by field, each in its wire
     (the one, or the one its CDR encapsulation names; a count of transforms first where ``counted``):
     of the well-formed messages, each row's message, stamp (ns), translation (N, 3), rotation (N, 4) (each
@@ -15,6 +20,17 @@ def decode_transforms(
     as ids among the names; each distinct name's start and length in ``raw`` (a CDR NUL left out);
     of the messages not well-formed or in none of the wires, (K, 4): each one, why (``wire.Reason``),
     the offset in it and the figure the reason tells."""
+
+class Decoding:
+    """``decode_transforms`` on a thread of its own, started at once (the GIL not held there); the arrays
+    are held until it is done."""
+
+    def __init__(
+        self, raw: UInt8Array, starts: Int64Array, lengths: Int64Array, wires: list[WireFields], counted: bool
+    ) -> None: ...
+    def result(self) -> Columns:
+        """What ``decode_transforms`` would have given, once the thread is done (the GIL let go while waiting);
+        once only."""
 
 def match_records(
     raw: UInt8Array,

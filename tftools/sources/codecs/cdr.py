@@ -12,7 +12,7 @@ from __future__ import annotations
 from functools import partial
 
 from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder, TransformEncoder
-from tftools.sources.codecs.stepped import decode_transforms
+from tftools.sources.codecs.stepped import SteppedDecoder
 from tftools.sources.codecs.wire import Wire, decode_times, encode_transforms, read_headers
 
 WIRES = tuple(
@@ -20,9 +20,9 @@ WIRES = tuple(
     for kind, order, align in ((0x01, "<", 8), (0x00, ">", 8), (0x07, "<", 4), (0x06, ">", 4))
 )
 
-decode_tf: BulkDecoder = partial(decode_transforms, wires=WIRES)  # FrameTransforms too: the same bytes
+decode_tf: BulkDecoder = SteppedDecoder(WIRES)  # FrameTransforms too: the same bytes
 #: Foxglove FrameTransform messages: one transform each, without a count.
-decode_frame_transform: BulkDecoder = partial(decode_transforms, wires=WIRES, counted=False)
+decode_frame_transform: BulkDecoder = SteppedDecoder(WIRES, counted=False)
 decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
 decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
 #: ``tf2_msgs/msg/TFMessage`` serialized as rosbag2 and rmw_cyclonedds write it: plain CDR, little endian.

@@ -6,12 +6,12 @@ from __future__ import annotations
 from functools import partial
 
 from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder, TransformEncoder
-from tftools.sources.codecs.stepped import decode_transforms
+from tftools.sources.codecs.stepped import SteppedDecoder
 from tftools.sources.codecs.wire import Wire, decode_times, encode_transforms, read_headers
 
 WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exact=True),)
 
-decode_tf: BulkDecoder = partial(decode_transforms, wires=WIRES)
+decode_tf: BulkDecoder = SteppedDecoder(WIRES)
 decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
 decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
 #: ``tf2_msgs/TFMessage`` serialized, every seq 0.
