@@ -201,7 +201,8 @@ def test_neato_given_alone_says_its_own_file_counts_the_publishers(
         code, _, findings = _findings(tfx, given)
         assert code == 1 and [f["code"] for f in findings] == ["static_conflict"], findings
         message = findings[0]["message"]
-        assert f"which differs in value from publisher 1's while {source} lists 2 publishers" in message, message
+        said = f"which differs in value from publisher 1's while {source} lists 2 publishers of /tf_static"
+        assert said in message, message
         assert "metadata.yaml" not in message and "base_link -> base_laser_link (79.1 mm" in message
 
 
