@@ -127,6 +127,29 @@ def test_slam_toolbox_re_sending_map_to_odom_is_not_two_publishers(corpus: Corpu
     assert "answer from the last value received" in backwards["message"]
 
 
+def test_slam_toolbox_jump_says_the_second_a_replay_plays_it_where_it_is_not_its_stamps(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The JetAcker's simulation ran at 0.067x real time, recorded on wall time without /clock: its wheel's jump,
+    stamped +1.3 s, plays 21.2 s into the replay, which ``monitor --start`` counts. wtf said "first at 15.840
+    (+1.3 s)", a window no replay finds it in; and monitor refused +21.1 as outside the recording (the stamps')."""
+    from tftools.analysis.monitor import MonitorQuery, monitor
+    from tftools.analysis.times import Offset
+    from tftools.sources.recording import read_recording
+
+    _, path = _recording(corpus, SLAM_TOOLBOX)
+    jumps = [f for f in _findings(tfx, path)[2] if f["code"] == "jump" and f["frames"][1] == "bottom_wheel_base_link"]
+    (jump,) = jumps
+    assert "the first at 15.840 (+1.3 s; heard 21.2 s into the replay)" in jump["message"], jump["message"]
+    recording = read_recording([path])
+    edge = ("top_wheel_base_link", "bottom_wheel_base_link")
+    heard = monitor(recording, MonitorQuery(start=Offset(21.1), end=Offset(21.3))).edges
+    assert [e.count for e in heard if e.key == edge] == [1]
+    stamped = monitor(recording, MonitorQuery(start=Offset(1.2), end=Offset(1.4))).edges
+    assert not [e for e in stamped if e.key == edge]
+
+
 # --- static_conflict in ROS 2, one cause -------------------------------------------------------
 
 
