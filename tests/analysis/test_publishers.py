@@ -337,7 +337,7 @@ def test_two_static_publishers_listed_in_the_metadata_that_disagree_are_a_static
     assert (conflict.code, conflict.count, conflict.frames) == ("static_conflict", 1, ("base_link", "laser"))
     assert (
         "publisher 1: 1 transform at 1700000000.002 (+0.0 s); publisher 2: 10 transforms at 1700000000.006 (+0.0 s), "
-        "which differs in value from publisher 1's while metadata.yaml lists 2 publishers"
+        "which differs in value from publisher 1's while metadata.yaml lists 2 publishers of /tf_static"
     ) in conflict.message
     assert "base_link -> laser (79.1 mm and 0.00° apart)" in conflict.message
     assert "up to" not in conflict.message  # one transform: its figures once (the real Neatos said them twice)
@@ -367,7 +367,7 @@ def test_a_db3_given_alone_counts_publishers_by_its_topics_table(tmp_path: Path,
 def _count_said_by(finding: Finding, source: str, listed: int) -> None:
     """The finding names where the count it gives came from: the file's own, never a metadata.yaml it lacks (a bare
     file said "metadata.yaml lists 2 publishers")."""
-    said = f"while {source} lists 2 publishers" if listed == 2 else f"; {source} lists 1 publisher of it"
+    said = f"while {source} lists 2 publishers of /tf_static" if listed == 2 else f"; {source} lists 1 publisher of it"
     assert said in finding.message and "metadata.yaml" not in finding.message, finding.message
 
 

@@ -127,6 +127,29 @@ def test_slam_toolbox_re_sending_map_to_odom_is_not_two_publishers(corpus: Corpu
     assert "answer from the last value received" in backwards["message"]
 
 
+def test_slam_toolbox_jump_says_the_second_a_replay_plays_it_where_it_is_not_its_stamps(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The JetAcker's simulation ran at 0.067x real time, recorded on wall time without /clock: its wheel's jump,
+    stamped +1.3 s, plays 21.2 s into the replay, which ``monitor --start`` counts. wtf said "first at 15.840
+    (+1.3 s)", a window no replay finds it in; and monitor refused +21.1 as outside the recording (the stamps')."""
+    from tftools.analysis.monitor import MonitorQuery, monitor
+    from tftools.analysis.times import Offset
+    from tftools.sources.recording import read_recording
+
+    _, path = _recording(corpus, SLAM_TOOLBOX)
+    jumps = [f for f in _findings(tfx, path)[2] if f["code"] == "jump" and f["frames"][1] == "bottom_wheel_base_link"]
+    (jump,) = jumps
+    assert "the first at 15.840 (+1.3 s; heard 21.2 s into the replay)" in jump["message"], jump["message"]
+    recording = read_recording([path])
+    edge = ("top_wheel_base_link", "bottom_wheel_base_link")
+    heard = monitor(recording, MonitorQuery(start=Offset(21.1), end=Offset(21.3))).edges
+    assert [e.count for e in heard if e.key == edge] == [1]
+    stamped = monitor(recording, MonitorQuery(start=Offset(1.2), end=Offset(1.4))).edges
+    assert not [e for e in stamped if e.key == edge]
+
+
 # --- static_conflict in ROS 2, one cause -------------------------------------------------------
 
 
@@ -201,7 +224,8 @@ def test_neato_given_alone_says_its_own_file_counts_the_publishers(
         code, _, findings = _findings(tfx, given)
         assert code == 1 and [f["code"] for f in findings] == ["static_conflict"], findings
         message = findings[0]["message"]
-        assert f"which differs in value from publisher 1's while {source} lists 2 publishers" in message, message
+        said = f"which differs in value from publisher 1's while {source} lists 2 publishers of /tf_static"
+        assert said in message, message
         assert "metadata.yaml" not in message and "base_link -> base_laser_link (79.1 mm" in message
 
 
@@ -500,6 +524,21 @@ def _monitor_whole_and_played(tfx: Tfx, path: Path, *window: str) -> list[dict[s
     played = tfx("monitor", "-b", path, *window, "--play", "--rate", "200", "--window", "1000", "-f", "json")
     assert whole.code == 0 and played.code == 0, whole.stderr + played.stderr
     return [json.loads(whole.stdout), json.loads(played.stdout.splitlines()[-1])]
+
+
+def test_a_stamp_re_sent_in_a_window_is_new_to_a_replay_started_there_not_to_a_whole_read(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """slam_toolbox re-sends its latest map -> odom every 20 ms: in the JetAcker's +1 to +2 s it re-sends a stamp
+    first heard before. A whole read holds it since then (1 sample in the window); ``--play --start +1`` starts
+    the replay there, as ``ros2 bag play --start-offset``, and its listener hears it new (2). Both stay, said in
+    docs/clocks.md; the messages are the same 54."""
+    _, path = _recording(corpus, SLAM_TOOLBOX)
+    reports = _monitor_whole_and_played(tfx, path, "map", "odom", "--start", "+1", "--end", "+2")
+    samples = [{e["child"]: e["count"] for e in r["edges"]}["odom"] for r in reports]
+    messages = [{a["authority"]: a["messages"] for a in r["authorities"]}["/tf"] for r in reports]
+    assert (samples, messages) == ([1, 2], [54, 54])
 
 
 @pytest.mark.parametrize(

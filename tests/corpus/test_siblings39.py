@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus import variants
 from tests.corpus.test_issue39 import BY_ID, Corpus, _findings
 from tests.sinks.test_static_bag import _static_changes
 from tftools.analysis.wtf.scene import Scene
@@ -104,6 +105,13 @@ DISAGREEING = {
     "ros2-neato-real-static-conflict-urdf-first-2025-db3": (0, 1),
     GTBOX_NEW: (1, 0),
 }
+#: The transforms of an overridden /tf_static message that tf2 still holds, which the copy repeats in the message that
+#: overrode it: the create3's first URDF's 12 beside the second's 23, the URDF-first Neato's 9 links beside its lone
+#: laser.
+REPEATED_IN_THE_OVERRIDER = {
+    "ros2-create3-real-two-urdfs-2022-db3": 12,
+    "ros2-neato-real-static-conflict-urdf-first-2025-db3": 9,
+}
 
 
 @pytest.mark.parametrize("recording_id", list(DISAGREEING))
@@ -116,7 +124,8 @@ def test_a_repaired_copy_changes_no_static_parent_or_value_more_than_its_recordi
     """The repair repeats what tf2 holds at each instant, not the recording's messages: its copy's changes of parent
     and of value on /tf_static are the recording's, and wtf tells the same publishers apart, each first heard when
     the recording first has it but the first, which the copy's start holds (the create3's second URDF was said at
-    the copy's start, 0.6 s early)."""
+    the copy's start, 0.6 s early). What tf2 still holds of an overridden message is repeated in its overrider's
+    (``HeldStatics.at``): there the two publishers agree on those transforms too, and no more differ."""
     bag = corpus(BY_ID[recording_id])
     copy = tmp_path / ("repaired.bag" if bag.suffix == ".bag" else "repaired")
     assert tfx("static", "--repair", "-b", bag, "-o", copy).code == 0
@@ -129,4 +138,31 @@ def test_a_repaired_copy_changes_no_static_parent_or_value_more_than_its_recordi
         ]
         for path in (bag, copy)
     )
+    for conflict in now:
+        conflict["transforms_agreeing"] -= REPEATED_IN_THE_OVERRIDER.get(recording_id, 0)
     assert now == was
+
+
+@pytest.mark.parametrize("recording_id", list(REPEATED_IN_THE_OVERRIDER))
+def test_a_split_of_a_repaired_copy_after_a_partial_override_has_every_static_frame(
+    recording_id: str,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The create3's second URDF overrides 21 of the first's 33 transforms 0.6 s after it; the URDF-first Neato's lone
+    laser one of robot_state_publisher's 10. The copies repeated only the overriding message: a split from +15 s had
+    26 frames of the create3's 38 (sensor_frame: /scan's rplidar_link named by no transform), of the Neato's 14 only
+    6 (two trees, disconnected). The rest of the overridden message is repeated in the overrider's: a split has every
+    frame, and wtf says of it nothing the recording does not."""
+    recording = BY_ID[recording_id]
+    bag = corpus(recording)
+    copy = tmp_path / "repaired"
+    assert tfx("static", "--repair", "-b", bag, "-o", copy).code == 0
+    contents = variants.read(copy)
+    start = min(t for _, t, _ in contents.messages) + 15 * 10**9
+    kept = [m for m in contents.messages if m[1] >= start]
+    split = variants.write_ros2(tmp_path / "split", variants.Contents(False, contents.connections, kept))
+    _, report, found = _findings(tfx, split)
+    assert report["frames"] == recording.meta["frames"]
+    assert {f["code"] for f in found} <= {f["code"] for f in _findings(tfx, bag)[2]}, found

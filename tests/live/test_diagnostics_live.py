@@ -21,7 +21,7 @@ from tests.live.conftest import ROS_PYTHON, Master, Ros, read_line, wait_until
 from tests.live.ros2_processes import Process, Ros2Domain, domain_fixture  # noqa: F401 - fixture `domain`
 from tftools.analysis.edges import edge_stats
 from tftools.analysis.findings import Severity
-from tftools.analysis.wtf.health import LEVELS, Level, check_name, edge_name
+from tftools.analysis.wtf.health import CHECKS_KEY, LEVELS, Level, check_name, edge_name
 from tftools.sources.recording import read_recording
 
 pytestmark = pytest.mark.live
@@ -87,7 +87,16 @@ def levels_over(arrays: list[dict[str, Any]]) -> dict[str, int]:
 
 #: Checks of when transforms arrive, not of what they say: a replay on a loaded machine (these tests share
 #: theirs) delivers them in bunches that the recording's own arrivals did not have.
-ARRIVAL_CHECKS = frozenset({check_name("rate"), check_name("delay")})
+ARRIVALS = frozenset({"rate", "delay"})
+ARRIVAL_CHECKS = frozenset(check_name(code) for code in ARRIVALS)
+
+
+def late_only(status: dict[str, Any]) -> bool:
+    """Whether an edge's status is OK, or a warning that only the checks of arrivals set (its ``checks``): what the
+    replay's own timing may cause of it, as of the checks' statuses (a fresh clone's CI run once heard the Neato's
+    odom -> base_link WARN)."""
+    checks = set(status["values"].get(CHECKS_KEY, "").split())
+    return status["level"] == Level.OK or (status["level"] == Level.WARN and bool(checks) and checks <= ARRIVALS)
 
 
 def unexplained(said: dict[str, int], expected: dict[str, int]) -> dict[str, int]:
@@ -146,7 +155,8 @@ def test_a_rospy_node_and_rosdiagnostic_hear_on_diagnostics_what_wtf_says_of_the
     assert {name: checks.get(name) for name in expected} == expected  # each of the bag's, at its level
     assert not unexplained(checks, expected)
     assert said[edge_name("base_link", "base_laser_link")] == Level.WARN
-    assert said[edge_name("odom", "base_link")] == Level.OK
+    odom = [s for a in hearing for s in a["status"] if s["name"] == edge_name("odom", "base_link")]
+    assert odom and all(late_only(s) for s in odom), [s for s in odom if not late_only(s)]
     assert all(s["hardware_id"] == "tf" for a in arrays for s in a["status"])
 
     recording = read_recording([bag])

@@ -11,7 +11,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.fleet import BagReport
-from tftools.analysis.wtf.health import Level, Status, check_name, edge_name, statuses
+from tftools.analysis.wtf.health import CHECKS_KEY, Level, Status, check_name, edge_name, statuses
 from tftools.core.time import NS_PER_S
 from tftools.sinks.diagnostics import DIAGNOSTIC_ARRAY, encode_cdr, encode_ros1
 from tftools.sources.codecs.types import ros1_message_type
@@ -64,6 +64,19 @@ def test_each_check_and_edge_has_a_status_at_the_level_of_its_worst_finding() ->
     assert said[edge_name("odom", "base_link")].level is Level.ERROR
     assert said[edge_name("base_link", "laser")].level is Level.OK
     assert all(s.hardware_id == "tf" for s in said.values())
+
+
+def test_an_edge_names_the_checks_that_set_its_level() -> None:
+    """A late arrival and a wrong value both make an edge WARN: its ``checks`` say which (the Neato's replay on a
+    loaded machine made odom -> base_link WARN by ``delay`` alone, which the live test could not tell from another
+    check's finding about it). An edge without findings has none."""
+    late = Finding(Severity.warning, "delay", "odom -> base_link arrives late", "wait", ("odom", "base_link"))
+    said = _by_name(
+        statuses(_report(late, STALE, SLASH), [_edge("odom", "base_link"), _edge("base_link", "laser")], NOW)
+    )
+    assert dict(said[edge_name("odom", "base_link")].values)[CHECKS_KEY] == "delay stale"
+    assert said[edge_name("odom", "base_link")].level is Level.ERROR
+    assert CHECKS_KEY not in dict(said[edge_name("base_link", "laser")].values)
 
 
 def test_an_edges_figures_are_its_rate_delay_longest_gap_and_silence() -> None:

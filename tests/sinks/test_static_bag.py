@@ -21,6 +21,7 @@ from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
 from rosbags.rosbag2 import Reader as Rosbag2Reader
 from rosbags.rosbag2 import Writer as Rosbag2Writer
 
+from tests.corpus import variants
 from tests.corpus.fetch import shared_dir
 from tests.sources.ros2_helpers import Tf, ros1_typestore, tf_cdr, tf_ros1, typestore
 from tftools.analysis.findings import Finding
@@ -44,6 +45,7 @@ THING = "my_msgs/msg/Thing"  # a type no type store has
 THING_HASH = "RIHS01_" + "ab" * 32
 #: Payloads that are no valid CDR of anything: a decoder would fail on them, a copy keeps them.
 PAYLOADS = [bytes([i, 255 - i, 7]) * (i + 1) for i in range(40)]
+TF = "tf2_msgs/msg/TFMessage"
 LASER = Transform((0.1, 0.0, 0.2), (0.0, 0.0, 0.0, 1.0), 0, "base_link", "laser")
 
 
@@ -232,6 +234,47 @@ def test_a_repair_repeats_what_tf2_holds_not_the_sequence_of_static_messages(tmp
     found = {f.code for f in check(copy).findings}
     assert "static_conflict" in found and "dynamic_on_static" not in found
     assert found == {f.code for f in check(original).findings}
+
+
+def test_a_repair_repeats_what_tf2_holds_of_an_overridden_message_in_the_message_that_overrode_it(
+    tmp_path: Path,
+) -> None:
+    """The URDF-first Neato (ros2-neato-real-static-conflict-urdf-first-2025-db3): robot_state_publisher's caster and
+    laser, then a lone static_transform_publisher's laser 50 ms later with another value, no publisher named. tf2
+    holds the URDF's caster and the lone laser. The copy repeated only the lone laser (the URDF's caster alone would
+    read as a third publisher's message): a split of it after the override had no caster. It repeats the caster in
+    the lone laser's message, with that message's stamp: one broadcaster sending what tf2 holds, read as the lone
+    laser's publisher; a split has every frame, and the copy's changes of value, findings and publishers are the
+    recording's."""
+    urdf = [
+        Tf("base_link", "caster", 1_700_000_000, 0, (-0.1, 0.0, 0.0)),
+        Tf("base_link", "laser", 1_700_000_000, 0, (-0.08, 0, 0.17)),
+    ]
+    lone = [Tf("base_link", "laser", 1_700_000_001, 0, (-0.1, 0.0, 0.09))]
+    bag = _statics_bag(tmp_path / "in", [urdf, lone])
+    written, _ = repair_static_transforms(bag, tmp_path / "out")
+    repeats = [
+        [(t.child_frame_id, t.header.stamp.sec) for t in typestore().deserialize_cdr(data, TF).transforms]
+        for time, data in _messages_of(written)["/tf_static"]
+        if time >= T0 + S
+    ]
+    assert repeats and all(r == [("laser", 1_700_000_001), ("caster", 1_700_000_001)] for r in repeats), repeats
+    assert _static_changes(written) == _static_changes(bag) == (0, 1)
+    original, copy = read_recording([bag]), read_recording([written])
+    assert copy.buffer.lookup("base_link", "laser").translation == (-0.1, 0.0, 0.09)
+    found, was = check(copy).findings, check(original).findings
+    assert {f.code for f in found} == {f.code for f in was} == {"static_conflict"}
+    assert [f.figures["publishers"] for f in found] == [f.figures["publishers"] for f in was] == [2]
+    split = variants.write_ros2(tmp_path / "split", _after(variants.read(written), T0 + 2 * S))
+    held = read_recording([split]).buffer
+    assert held.lookup("base_link", "caster").translation == (-0.1, 0.0, 0.0)
+    assert held.lookup("base_link", "laser").translation == (-0.1, 0.0, 0.09)
+    assert not check(read_recording([split])).findings
+
+
+def _after(contents: variants.Contents, time: int) -> variants.Contents:
+    """A split of a recording: its messages recorded from ``time`` on."""
+    return variants.Contents(contents.ros1, contents.connections, [m for m in contents.messages if m[1] >= time])
 
 
 def _static_changes(bag: Path) -> tuple[int, int]:

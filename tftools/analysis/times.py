@@ -133,9 +133,10 @@ def played_range(
     timeline = stream.timeline
     frames = stream.moving_chain(target, source) if target and source else []
     first, last = resolve_range(timeline, start, end, (None, None), frames)
+    reach = timeline.arrival_span(frames)
+    if (first is not None and first > reach[1]) or (last is not None and last < reach[0]):
+        raise TimeRangeError(reach)
     span = timeline.span_of(frames)
-    if (first is not None and first > span[1]) or (last is not None and last < span[0]):
-        raise TimeRangeError(span)
     if span == (timeline.tf_start, timeline.tf_end):
         return first, last
     return (

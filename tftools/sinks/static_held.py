@@ -7,7 +7,7 @@ changes of value in the recording, 441 in its copy)."""
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from itertools import groupby
 
 import numpy as np
@@ -57,20 +57,31 @@ class HeldStatics:
         """What tf2 holds just before record time ``time``, as messages: the rows of each recorded message that tf2
         still holds, in the recording's order, each on its sender's connection and with its own stamps (as a
         StaticTransformBroadcaster sends again). A message of which tf2 holds only some transforms (another
-        overrode the rest) is sent in part where the recording names its sender (a ROS 1 callerid); where it names
+        overrode the rest) is sent in part where the recording names its sender (a ROS 1 callerid). Where it names
         none, tfx tells publishers apart by their messages, and a message lacking transforms of an earlier one
-        reads as another publisher's: it is left out (its transforms tf2 holds since it came)."""
+        reads as another publisher's: what tf2 still holds of it goes out in the latest message of its topic
+        (sent whole: nothing later overrode it), stamped as that one, which reads as that message's publisher
+        sending them all; tf2's values are unchanged, and no frame is lost to a split of the copy (the URDF-first
+        Neato's 9 links of its robot_state_publisher, overridden in one transform by a lone
+        static_transform_publisher; sent apart, they read as a third publisher's; whole, they flipped the laser's
+        value at each repeat). A part with
+        no later whole message of its topic (the copy's start, which holds each frame's first transform) is left
+        out: tf2 gets it when the recording sends it."""
         rows = self.rows
         end = int(np.searchsorted(rows.times, time, side="left"))
         for k in range(self._applied, max(end, self._applied)):
             self._held[self._children[k]] = k
         self._applied = max(end, self._applied)
         held = sorted(self._held.values())  # rows are in message order: each message's rows run together
-        sent: Messages = []
-        for message, run in groupby(held, key=lambda k: int(rows.messages[k])):
-            mine = list(run)
+        runs = [(int(m), list(run)) for m, run in groupby(held, key=lambda k: int(rows.messages[k]))]
+        whole = {rows.senders[m]: i for i, (m, mine) in enumerate(runs) if len(mine) == self._frames[m]}
+        sent = [[rows.transform(k) for k in mine] for _, mine in runs]
+        for i, (message, mine) in enumerate(runs):
             sender = rows.senders[message]
-            if is_static_topic(sender) and len(mine) < self._frames[message]:
+            if len(mine) == self._frames[message] or not is_static_topic(sender):
                 continue
-            sent.append((sender, [rows.transform(k) for k in mine]))
-        return sent
+            if (j := whole.get(sender, -1)) > i:
+                stamp = sent[j][0].stamp
+                sent[j] += [replace(t, stamp=stamp) for t in sent[i]]
+            sent[i] = []
+        return [(rows.senders[m], transforms) for (m, _), transforms in zip(runs, sent, strict=True) if transforms]

@@ -173,6 +173,18 @@ class Timeline:
         group = next(g for g in self.clocks if off[0] in g)
         return min(e.first_stamp for e in group), max(e.last_stamp for e in group)
 
+    def arrival_span(self, children: Iterable[str]) -> tuple[int, int]:
+        """``span_of``, as far as a window of arrivals (``arrival``: ``monitor``'s ``--start``/``--end``) can hold
+        them: without a reference, widened to where a replay plays the recording (its record span moved by
+        ``replay_shift``), which a simulation slower than real time stretches past its stamps' (the JetAcker's,
+        stamped over 4.25 s, plays over 62.8 s: +21 s into it holds transforms)."""
+        span = self.span_of(children)
+        if span != (self.tf_start, self.tf_end) or self.reference is not Reference.NONE or self.record_start <= 0:
+            return span
+        if self.record_clock_void:
+            return span
+        return min(span[0], self.tf_start), max(span[1], self.record_end - self.replay_shift)
+
     @cached_property
     def own_clock_ends(self) -> dict[str, int]:
         """For each frame stamped outside the recording's tf span (a chain on simulated time among frames on

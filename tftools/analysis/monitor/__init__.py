@@ -104,9 +104,10 @@ def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | N
     buffer, timeline = recording.buffer, recording.timeline
     frames = list(chain_moving_edges(buffer, query.target, query.source)) if query.target and query.source else []
     first, last = resolve_range(timeline, query.start, query.end, (None, None), frames)
+    reach = timeline.arrival_span(frames)
+    if (first is not None and first > reach[1]) or (last is not None and last < reach[0]):
+        raise TimeRangeError(reach)
     span = timeline.span_of(frames)
-    if (first is not None and first > span[1]) or (last is not None and last < span[0]):
-        raise TimeRangeError(span)
     if span == (timeline.tf_start, timeline.tf_end) or (first is None and last is None):
         return first, last
     hists = [hist for child in frames if (hist := buffer.history(child)) is not None]

@@ -65,6 +65,11 @@ TREE_NAME = "tf: tree"
 SILENT = "silent for the last (s)"
 
 
+#: The codes of the checks whose findings set an edge's level, in the order of its findings (only where it has some):
+#: what a reader needs to tell a late arrival (``delay``, ``rate``) from a wrong value.
+CHECKS_KEY = "checks"
+
+
 def statuses(
     report: BagReport,
     edges: Sequence[EdgeStats],
@@ -179,6 +184,7 @@ def _edge_status(edge: EdgeStats, findings: Sequence[Finding], now: int, hardwar
         first = min(about, key=lambda f: f.severity.rank)
         level = LEVELS[first.severity]
         message = first.message + (f" (and {len(about) - 1} more)" if len(about) > 1 else "")
+        values.append((CHECKS_KEY, " ".join(dict.fromkeys(f.code for f in about))))
     else:
         level = Level.OK
         message = "static" if edge.static else "OK, 1 sample" if edge.once else f"OK, {edge.rate_hz:.1f} Hz"

@@ -27,8 +27,13 @@ from tftools.core.time import duration as duration  # said by every check
 from tftools.sources import clocks_apart
 from tftools.sources.contents import StampedMessages
 from tftools.sources.recording import Recording, recording_of_buffer
+from tftools.sources.timeline import Reference
 
 T = TypeVar("T")
+
+#: A sample's second in a replay and its stamp's further apart than this (s) are both said (``Scene.at``): a
+#: replay's start offset picked by the stamp's would miss it.
+HEARD_APART = 0.5
 
 
 @dataclass(frozen=True)
@@ -172,8 +177,13 @@ class Scene:
         return np.where(records > 0, records, self.rows.stamp[rows])
 
     def first_at(self, rows: IntpArray) -> str:
-        """When the first of ``rows`` arrived (``at``)."""
-        return self.at(int(self.arrival(rows).min()))
+        """When the first of ``rows`` arrived (``at_row``)."""
+        return self.at_row(int(rows[int(np.argmin(self.arrival(rows)))]))
+
+    def at_row(self, row: int) -> str:
+        """When transform ``row`` arrived (``arrival``), said by ``at`` with its record time."""
+        rows = np.array([row], np.intp)
+        return self.at(int(self.arrival(rows)[0]), int(self.rows.record_time[rows][0]))
 
     def finding(
         self,
@@ -213,13 +223,29 @@ class Scene:
     def at(self, stamp: int, recorded: int = 0) -> str:
         """A moment on the stamps' clock: absolute seconds, and seconds into the tf data where plausible
         (a stamp on another time base than the tf data's has none); ``recorded``: the record time of the one
-        sample stamped so, where the finding is about one (``clocks_apart.placed``)."""
+        sample stamped so, where the finding is about one (``clocks_apart.placed``), and where a replay plays it
+        at another second than its stamp's (``_heard``), that one too: "15.840 (+1.3 s; heard 19.6 s into the
+        replay)". Every "first at" of a finding is said so."""
         since = self.timeline.since_origin(stamp)
         if since is None:
             return f"{stamp / NS_PER_S:.3f}{self._elsewhere(stamp, recorded)}"
+        heard = self._heard(since, recorded)
         if signed_seconds(since).startswith("-"):  # what was observed, not a negative offset that reads as an error
-            return f"{stamp / NS_PER_S:.3f} ({signed_seconds(-since)[1:]} s before the first tf stamp)"
-        return f"{stamp / NS_PER_S:.3f} ({signed_seconds(since)} s)"
+            return f"{stamp / NS_PER_S:.3f} ({signed_seconds(-since)[1:]} s before the first tf stamp{heard})"
+        return f"{stamp / NS_PER_S:.3f} ({signed_seconds(since)} s{heard})"
+
+    def _heard(self, since: float, recorded: int) -> str:
+        """Where the recording has no clock of its stamps (``Timeline.replay_shift``) and a replay plays the sample
+        recorded at ``recorded`` more than ``HEARD_APART`` s from ``since`` (its stamp's second): "; heard 19.6 s into
+        the replay", the second ``monitor --play --start`` counts (a simulation slower than real time, a robot's
+        stamps on a clock drifting from the recorder's); "" where they agree, or a replay's second is unknown."""
+        timeline = self.timeline
+        if timeline.reference is not Reference.NONE or timeline.replayed or recorded <= 0:
+            return ""
+        heard = timeline.since_origin(recorded - timeline.replay_shift)
+        if heard is None or abs(heard - since) <= HEARD_APART:
+            return ""
+        return f"; heard {heard:.1f} s into the replay"
 
     def rel(self, stamp: int) -> str:
         """Seconds into the tf data (``Timeline.origin``), or the absolute time on another time base."""

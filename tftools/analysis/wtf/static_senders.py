@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.findings import counted
-from tftools.analysis.wtf.broadcasters import Listed, listed_publishers
+from tftools.analysis.wtf.broadcasters import listed_publishers
 from tftools.analysis.wtf.scene import Scene
 from tftools.core.arrays import Int32Array, IntpArray
 from tftools.core.time import NS_PER_S
@@ -106,9 +106,10 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
         distinct.add(keys[-1])
         if len(distinct) > MESSAGES_COMPARED:
             return None
-    found = [listed_publishers(scene, t) for t in scene.authorities_of(static)]
-    listed = max((n for n in found if n is not None), default=None)
+    found = [(n, t) for t in scene.authorities_of(static) if (n := listed_publishers(scene, t)) is not None]
+    listed, topic = max(found, default=(None, ""))
     listing = listed.publishers if listed is not None else 0
+    said = listed.said(topic) if listed is not None else ""
     several = listing >= 2
     began = _recording_began(scene)
     publishers: list[_Publisher] = []
@@ -128,7 +129,7 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
         # Where the recording lists more publishers than are told apart, the same values with other stamps
         # are taken for one of those not yet heard, as where both were sent before the recording began.
         held = latched or len(publishers) < listing
-        earlier, evidence = _publisher_of(scene, publishers, edges, several, listed, (held, low, high))
+        earlier, evidence = _publisher_of(scene, publishers, edges, several, said, (held, low, high))
         if earlier is None:
             publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence, latched, (low, high)))
             k = len(publishers) - 1
@@ -149,14 +150,15 @@ def _publisher_of(
     publishers: list[_Publisher],
     edges: dict[tuple[int, int], bytes],
     several: bool,
-    listed: Listed | None,
+    listed: str,
     sent: tuple[bool, int, int],
 ) -> tuple[int | None, str]:
     """Which earlier publisher could have sent a message of ``edges`` (None: another), and if another, why.
     A publisher's next message holds every transform of its last; where the recording lists ``several``
     publishers, or both messages were sent before the recording began (``sent``: whether it was, and its
     earliest and latest stamps; a static broadcaster's history holds one), one whose values differ from this
-    message's is taken for another, and so, both sent before, is one with the same values and other stamps."""
+    message's is taken for another, and so, both sent before, is one with the same values and other stamps.
+    ``listed``: what the recording lists of the topic's publishers (``Listed.said``; "": nothing)."""
     latched, low, high = sent
     could: list[tuple[bool, int]] = []
     differ: list[int] = []
@@ -175,8 +177,8 @@ def _publisher_of(
         return max(could)[1], ""  # the same values first, then the latest
     if stamped and not differ:
         why = (
-            f"while {listed.source} lists {listed.publishers} publishers"
-            if several and listed is not None
+            f"while {listed}"
+            if several and listed
             else "both sent before the recording began: a late subscriber gets only the latest message of each "
             "static broadcaster, whose history holds one"
         )
@@ -184,9 +186,8 @@ def _publisher_of(
     overlapping = [k for k, p in enumerate(publishers) if p.latest.keys() & edges.keys()]
     if not overlapping:
         return None, ""
-    if differ and several and listed is not None:
-        said = f"{listed.source} lists {listed.publishers} publishers"
-        return None, f"differs in value from publisher {differ[-1] + 1}'s while {said}"
+    if differ and several and listed:
+        return None, f"differs in value from publisher {differ[-1] + 1}'s while {listed}"
     if differ:
         return None, (
             f"differs in value from publisher {differ[-1] + 1}'s, both sent before the recording began (a late "

@@ -265,7 +265,7 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
     switch_times = scene.arrival(switches)
     message = (
         f"{child} has {len(names)} parents: {'; '.join(described)}; it changed parent {counted(len(switches), 'time')}"
-        f", first at {scene.at(int(switch_times[0]))}, and is now under {now}"
+        f", first at {scene.at_row(int(switches[0]))}, and is now under {now}"
     )
     all_publishers = tuple(dict.fromkeys(a for group in publishers for a in group))
     figures: dict[str, float | int | str] = {"parents": len(names)}

@@ -166,7 +166,7 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
             "dynamic_on_static",
             f"{edge(parent, child)} takes {distinct} different values on /tf_static"
             f"{_by(scene, who)}: it changed {counted(len(changed), 'time')}, first at "
-            f"{scene.at(int(when[0]))}{evidence}",
+            f"{scene.at_row(int(mine[changed[0]]))}{evidence}",
             "a static transform holds at every time, so tf2 applies its latest value to the past too: send a "
             "moving transform on /tf with current stamps (a TransformBroadcaster), and on /tf_static only what "
             f"never moves{hint}",
