@@ -1,5 +1,5 @@
 """What a recording holds, read without tftools (rosbags' reader; sqlite3 for a .db3 left without
-metadata.yaml), and lookups composed with numpy.
+metadata.yaml; rosbags' ROS 1 reader for a bag whose types AnyReader refuses), and lookups composed with numpy.
 
 The corpus tests compare tftools against these: tf samples per edge (stamps, values, record
 times), whether /clock was recorded, and a lookup computed as ROS 2's tf2 does it (statics
@@ -14,7 +14,8 @@ import json
 import math
 import sqlite3
 from collections import Counter
-from contextlib import closing
+from collections.abc import Iterator
+from contextlib import closing, contextmanager
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -23,8 +24,9 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 from mcap.reader import make_reader
-from rosbags.highlevel import AnyReader
-from rosbags.typesys import Stores, get_typestore
+from rosbags.highlevel import AnyReader, AnyReaderError
+from rosbags.rosbag1 import Reader as Ros1Reader
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 # "tf" and "tf_static" (no slash) are what a writer that did not resolve the names stored: in ROS 2's root
 # namespace they are /tf and /tf_static.
@@ -91,7 +93,7 @@ def read_contents(path: Path) -> Contents:
     times: list[int] = []
     sent: Counter[tuple[str, str]] = Counter()
     ros2 = path.suffix != ".bag"
-    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
+    with _reader(path) as reader:
         topics = {c.topic for c in reader.connections}
         for connection, record_time, raw in reader.messages():
             times.append(record_time)
@@ -115,6 +117,48 @@ def read_contents(path: Path) -> Contents:
             elif connection.topic == "/clock":
                 clock.append((_ns(cast(Any, reader.deserialize(raw, connection.msgtype)).clock), record_time))
     return dataclasses.replace(_contents(topics, times, edges, clock), messages=sent)
+
+
+@contextmanager
+def _reader(path: Path) -> Iterator[Any]:
+    """rosbags' AnyReader; for a ROS 1 bag it refuses, rosbags' ROS 1 reader with the types of tf and /clock
+    taken from their own connections (``_Ros1Tf``)."""
+    if path.suffix == ".bag" and _ros1_type_hash_mismatch(path):
+        with Ros1Reader(path) as ros1:
+            yield _Ros1Tf(ros1)
+        return
+    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
+        yield reader
+
+
+def _ros1_type_hash_mismatch(path: Path) -> bool:
+    """A ROS 1 bag a connection of which declares an md5sum its own definition does not hash to (fishberg's
+    microstrain.bag: /ekf/status): AnyReader refuses the whole bag, rosbag and tf2 read it (the md5 is only
+    compared between live peers)."""
+    try:
+        with AnyReader([path]):
+            return False
+    except AnyReaderError as error:
+        return "hash mismatch" in str(error)
+
+
+class _Ros1Tf:
+    """A ROS 1 bag's connections and messages, decoding only tf's and /clock's (their types registered from
+    the definitions their connections carry)."""
+
+    def __init__(self, reader: Ros1Reader) -> None:
+        self._reader = reader
+        self.connections = reader.connections
+        self._store = get_typestore(Stores.EMPTY)
+        for c in reader.connections:
+            if (c.topic in TF_TOPICS and _is_tf_message(c.msgtype)) or c.topic == "/clock":
+                self._store.register(get_types_from_msg(c.msgdef.data, c.msgtype))
+
+    def messages(self) -> Iterator[tuple[Any, int, bytes]]:
+        return cast(Iterator[tuple[Any, int, bytes]], self._reader.messages())
+
+    def deserialize(self, raw: bytes, msgtype: str) -> Any:
+        return self._store.deserialize_ros1(raw, msgtype)
 
 
 def _add(
