@@ -66,6 +66,40 @@ def test_pauses_far_apart_are_each_edges_own() -> None:
     assert [(f.code, f.cause, f.key) for f in findings] == [("rate", "", "")] * 2, findings
 
 
+def _stall_meanwhile(still: bool) -> Finding:
+    """The stall scene (3 edges silent from +2.9 s to +5.0 s) with transforms arriving inside it: each edge's last
+    sample sent again and again (its clock stood still), or its last second's samples delivered 1.2 s late."""
+    late = 1200 * scenes.MS
+
+    def part(make: Callable[..., list[TfMessage]], stop: float, hz: float) -> list[TfMessage]:
+        if still:
+            last = scenes.START + round((stop - 1 / hz) * NS_PER_S)
+            meanwhile = make(start=stop, end=5.0, stamp=lambda t: last)
+            return [*make(end=stop), *meanwhile, *make(start=5.0)]
+        return [*make(end=stop - 1.0), *make(start=stop - 1.0, end=stop, delay=late), *make(start=5.0)]
+
+    parts = {
+        "amcl": part(scenes.amcl, 3.0, 10),
+        "ekf": part(scenes.ekf, 3.2, 50),
+        "wheels": part(scenes.wheels, 3.4, 20),
+    }
+    (stall,) = [f for f in check(scenes.recording(scenes.healthy(**parts))).findings if f.code == "stall"]
+    return stall
+
+
+def test_a_stall_that_new_samples_arrive_in_late_is_the_link_not_a_clock_that_stood_still() -> None:
+    """A real JetAcker over WiFi (ros2_db3_jetacker_real_two_odometries): its 3 edges silent for 2.2-2.9 s from
+    +145.1 s while 45 transforms arrived, each a sample not received before, stamped outside the stall (25 before
+    it: delivered late). wtf said 'stamped no later than before: the clock they are stamped with stood still (a
+    paused simulation, a driver's clock)': no clock stood still on that robot. Samples sent again with one stamp
+    still say so."""
+    late = _stall_meanwhile(still=False)
+    assert "new samples but none stamped inside it" in late.message, late.message
+    assert late.hint.startswith("transforms kept coming, new samples") and "not a clock that stood still" in late.hint
+    still = _stall_meanwhile(still=True)
+    assert "stamped no later than before" in still.message and "stood still (a paused simulation" in still.hint
+
+
 def test_edges_sent_in_one_message_pausing_together_are_that_publishers_pause_not_a_stall() -> None:
     """create3's odometry sends odom -> base_link and odom -> base_footprint in one message: they pause together."""
 

@@ -20,3 +20,13 @@ def test_a_real_jetackers_two_joints_of_one_message_are_said_once(corpus: Corpus
         assert [f["frames"] for f in alike] == [["base_link", "link1"], ["link1", "w_link"]], alike
         assert alike[0]["cause"] == "" and alike[1]["cause"] == alike[0]["key"] != "", alike
     assert code == 1 and bag["verdict"] == "failed"
+
+
+def test_a_real_jetackers_stall_with_late_samples_is_the_link_not_a_clock(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The JetAcker over WiFi: its 3 edges silent for 2.2-2.9 s from +145.1 s while 45 transforms arrived, each a
+    sample not received before (25 stamped before the stall: delivered late). The hint said the clock they are
+    stamped with stood still (a paused simulation, a driver's clock); it now names the link."""
+    findings = _findings(tfx, corpus(BY_ID[JETACKER_REAL]))[2]
+    (late,) = [f for f in findings if f["code"] == "stall" and "meanwhile" in f["message"]]
+    assert "45 transforms arrived on /tf meanwhile, new samples but none stamped inside it" in late["message"]
+    assert "stood still (a paused" not in late["hint"] and "lossy network or WiFi" in late["hint"], late["hint"]
