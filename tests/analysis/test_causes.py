@@ -619,14 +619,15 @@ def test_constant_edges_of_one_node_are_one_finding_with_its_edges_beneath() -> 
 def test_edges_of_one_message_in_a_bag_naming_no_node_are_one_finding() -> None:
     """A real JetAcker's ROS 2 bag (ros2_db3_jetacker_real_two_odometries): base_link -> link1 and link1 -> w_link,
     sent in one message, were two static_on_dynamic warnings and two time_backwards warnings alike (the same 570
-    transforms, the same 7 out of order at the same stamps). Seen at the same moments as often, they are one
-    finding with the other edge beneath; at other moments, or one edge's two kinds, they stay apart."""
+    transforms, the same 7 out of order at the same stamps); Franka teleop's MCAP sends base and fr3_link0 on
+    /tf_static and /tf in the same messages (two mixed_static errors). Seen at the same moments as often, they
+    are one finding with the other edge beneath; at other moments, or one edge's two kinds, they stay apart."""
     t0, t1 = 1_757_445_700 * NS_PER_S, 1_757_445_880 * NS_PER_S
 
     def joint(code: str, parent: str, child: str, first: int = t0, count: int = 570) -> Finding:
         return Finding(Severity.warning, code, f"{parent} -> {child}", "", (parent, child), ("/tf",), first, t1, count)
 
-    for code in ("static_on_dynamic", "time_backwards"):
+    for code in ("static_on_dynamic", "time_backwards", "mixed_static"):
         found = explain([joint(code, "base_link", "link1"), joint(code, "link1", "w_link")])
         assert [f.cause for f in found] == ["", f"{code}:1"], found
         elsewhere = explain([joint(code, "base_link", "link1"), joint(code, "link1", "w_link", first=t0 + 1)])

@@ -30,3 +30,16 @@ def test_a_real_jetackers_stall_with_late_samples_is_the_link_not_a_clock(corpus
     (late,) = [f for f in findings if f["code"] == "stall" and "meanwhile" in f["message"]]
     assert "45 transforms arrived on /tf meanwhile, new samples but none stamped inside it" in late["message"]
     assert "stood still (a paused" not in late["hint"] and "lossy network or WiFi" in late["hint"], late["hint"]
+
+
+FRANKA = "json-mcap-franka-teleop-2025"
+
+
+def test_frankas_two_frames_on_both_tf_topics_in_one_message_are_one_error(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Franka teleop's MCAP sends world -> base and base -> fr3_link0 together, once on /tf_static and 5 times on
+    /tf: two mixed_static errors alike ('2 errors'). One error now, fr3_link0's beneath it; still exit 1."""
+    code, bag, findings = _findings(tfx, corpus(BY_ID[FRANKA]))
+    mixed = [f for f in findings if f["code"] == "mixed_static"]
+    assert [f["frames"][0] for f in mixed] == ["base", "fr3_link0"], mixed
+    assert mixed[1]["cause"] == mixed[0]["key"] != "" and bag["summary"]["errors"] == 1, bag["summary"]
+    assert code == 1

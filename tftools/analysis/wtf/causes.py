@@ -265,6 +265,14 @@ RULES = (
         keys=_change,
     ),
     Rule(
+        frozenset({"mixed_static"}),
+        frozenset({"mixed_static"}),
+        _same_change_elsewhere,
+        "frames sent on /tf_static and on /tf at the same times as often: frames of one message (Franka teleop's "
+        "base and fr3_link0), one publisher's choice of topic, said once",
+        keys=_change,
+    ),
+    Rule(
         frozenset({"urdf_extra"}),
         frozenset({"urdf_extra"}),
         _under_it,
