@@ -180,7 +180,7 @@ def stall(scene: Scene) -> Iterator[Finding]:
             "stall",
             f"{which} went silent {when}, for {_range(lengths[0], lengths[-1])} "
             f"({listed([edge(*p.edge) for p in first])}){meanwhile}: "
-            f"{'everything on /tf' if every else 'they'} stopped at once",
+            f"{'everything on /tf' if every and look not in _KEPT_COMING else 'they'} stopped at once",
             f"{_LOOK[look]}; lookups inside the stall interpolate across it",
             tuple(f for p in first for f in p.edge),
             first_time=start,
@@ -196,6 +196,9 @@ def _together(spread: float) -> str:
         return "at the same instant"
     return "less than 1 ms apart" if spread < 0.0005 else f"within {duration(spread)} of each other"
 
+
+#: The looks where transforms kept arriving during the stall: not everything on /tf stopped, the edges did.
+_KEPT_COMING = ("old stamps", "late")
 
 #: What to look at, by what the record clock saw during a stall (``_meanwhile``).
 _LOOK = {
