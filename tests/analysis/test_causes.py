@@ -3,6 +3,7 @@ in text, JSON, JUnit, view-frames and the report, and counted with it; designed 
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import json
 import math
@@ -63,6 +64,41 @@ def test_pauses_far_apart_are_each_edges_own() -> None:
     messages = scenes.healthy(amcl=scenes.amcl(skip=(2.0, 4.0)), ekf=scenes.ekf(skip=(6.0, 8.0)))
     findings = check(scenes.recording(messages)).findings
     assert [(f.code, f.cause, f.key) for f in findings] == [("rate", "", "")] * 2, findings
+
+
+def _stall_meanwhile(still: bool) -> Finding:
+    """The stall scene (3 edges silent from +2.9 s to +5.0 s) with transforms arriving inside it: each edge's last
+    sample sent again and again (its clock stood still), or its last second's samples delivered 1.2 s late."""
+    late = 1200 * scenes.MS
+
+    def part(make: Callable[..., list[TfMessage]], stop: float, hz: float) -> list[TfMessage]:
+        if still:
+            last = scenes.START + round((stop - 1 / hz) * NS_PER_S)
+            meanwhile = make(start=stop, end=5.0, stamp=lambda t: last)
+            return [*make(end=stop), *meanwhile, *make(start=5.0)]
+        return [*make(end=stop - 1.0), *make(start=stop - 1.0, end=stop, delay=late), *make(start=5.0)]
+
+    parts = {
+        "amcl": part(scenes.amcl, 3.0, 10),
+        "ekf": part(scenes.ekf, 3.2, 50),
+        "wheels": part(scenes.wheels, 3.4, 20),
+    }
+    (stall,) = [f for f in check(scenes.recording(scenes.healthy(**parts))).findings if f.code == "stall"]
+    return stall
+
+
+def test_a_stall_that_new_samples_arrive_in_late_is_the_link_not_a_clock_that_stood_still() -> None:
+    """A real JetAcker over WiFi (ros2_db3_jetacker_real_two_odometries): its 3 edges silent for 2.2-2.9 s from
+    +145.1 s while 45 transforms arrived, each a sample not received before, stamped outside the stall (25 before
+    it: delivered late). wtf said 'stamped no later than before: the clock they are stamped with stood still (a
+    paused simulation, a driver's clock)': no clock stood still on that robot. Samples sent again with one stamp
+    still say so. Either way transforms kept coming: the edges stopped ('they'), not everything on /tf."""
+    late = _stall_meanwhile(still=False)
+    assert late.message.endswith("new samples but none stamped inside it: they stopped at once"), late.message
+    assert late.hint.startswith("transforms kept coming, new samples") and "not a clock that stood still" in late.hint
+    still = _stall_meanwhile(still=True)
+    assert still.message.endswith("stamped no later than before: they stopped at once"), still.message
+    assert "stood still (a paused simulation" in still.hint
 
 
 def test_edges_sent_in_one_message_pausing_together_are_that_publishers_pause_not_a_stall() -> None:
@@ -579,6 +615,28 @@ def test_constant_edges_of_one_node_are_one_finding_with_its_edges_beneath() -> 
     assert len(causes(found)) == 2 and [f.cause for f in found].count("static_on_dynamic:1") == 5
     ros2 = explain([_constant("a", "b", "/tf"), _constant("c", "d", "/tf")])
     assert not any(f.cause for f in ros2)
+
+
+def test_edges_of_one_message_in_a_bag_naming_no_node_are_one_finding() -> None:
+    """A real JetAcker's ROS 2 bag (ros2_db3_jetacker_real_two_odometries): base_link -> link1 and link1 -> w_link,
+    sent in one message, were two static_on_dynamic warnings and two time_backwards warnings alike (the same 570
+    transforms, the same 7 out of order at the same stamps); Franka teleop's MCAP sends base and fr3_link0 on
+    /tf_static and /tf in the same messages (two mixed_static errors). Seen at the same moments as often, they
+    are one finding with the other edge beneath; at other moments, or one edge's two kinds, they stay apart."""
+    t0, t1 = 1_757_445_700 * NS_PER_S, 1_757_445_880 * NS_PER_S
+
+    def joint(code: str, parent: str, child: str, first: int = t0, count: int = 570) -> Finding:
+        return Finding(Severity.warning, code, f"{parent} -> {child}", "", (parent, child), ("/tf",), first, t1, count)
+
+    for code in ("static_on_dynamic", "time_backwards", "mixed_static"):
+        found = explain([joint(code, "base_link", "link1"), joint(code, "link1", "w_link")])
+        assert [f.cause for f in found] == ["", f"{code}:1"], found
+        elsewhere = explain([joint(code, "base_link", "link1"), joint(code, "link1", "w_link", first=t0 + 1)])
+        assert not any(f.cause for f in elsewhere)
+    one_edge = explain([joint("time_backwards", "a", "b", count=7), joint("time_backwards", "a", "b", count=7)])
+    assert not any(f.cause for f in one_edge)
+    named = [dataclasses.replace(joint("static_on_dynamic", "a", "b"), authorities=(node,)) for node in ("/x", "/y")]
+    assert not any(f.cause for f in explain(named)), "two named nodes' edges stay apart at the same moments"
 
 
 def _extra(parent: str, frame: str) -> Finding:

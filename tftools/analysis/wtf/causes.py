@@ -131,6 +131,26 @@ def _one_publisher(finding: Finding) -> tuple[tuple[str, ...]]:
     return (_publisher(finding),)
 
 
+def _same_publisher_or_message(first: Finding, finding: Finding) -> bool:
+    """Findings of the same named publishers, or, where the recording names none (a ROS 2 bag), seen at the same
+    moments on other edges (one message's)."""
+    if _publisher(first) or _publisher(finding):
+        return _same_publisher(first, finding)
+    return _same_change(first, finding)
+
+
+def _publisher_or_change(finding: Finding) -> tuple[Hashable, ...]:
+    """``_same_publisher_or_message``'s keys."""
+    return (*_one_publisher(finding), *_change(finding))
+
+
+def _same_change_elsewhere(first: Finding, finding: Finding) -> bool:
+    """``_same_change`` on another edge by the same publisher (or, unnamed, the same topic): one edge's two kinds of
+    the same finding stay apart, and so do two nodes'."""
+    same_publisher = _publisher(first) == _publisher(finding)
+    return same_publisher and first.frames != finding.frames and _same_change(first, finding)
+
+
 def _same_edge(first: Finding, finding: Finding) -> bool:
     """Findings about the same edge (each naming it alone)."""
     return bool(first.frames) and first.frames == finding.frames
@@ -230,10 +250,27 @@ RULES = (
     Rule(
         frozenset({"static_on_dynamic"}),
         frozenset({"static_on_dynamic"}),
-        _same_publisher,
-        "constant edges one node sends on /tf (Stage's stageros: each robot's base_link and laser mounts): one "
-        "publisher's choice, said once with its edges beneath",
-        keys=_one_publisher,
+        _same_publisher_or_message,
+        "constant edges one node sends on /tf (Stage's stageros: each robot's base_link and laser mounts), or one "
+        "message sends (a ROS 2 bag names no node: a real JetAcker's two joints): one publisher's choice, said once "
+        "with its edges beneath",
+        keys=_publisher_or_change,
+    ),
+    Rule(
+        frozenset({"time_backwards"}),
+        frozenset({"time_backwards"}),
+        _same_change_elsewhere,
+        "edges stamped out of order (or again) at the same times as often: edges of one message (a real JetAcker's "
+        "two joints, 7 samples each), one publisher's, said once",
+        keys=_change,
+    ),
+    Rule(
+        frozenset({"mixed_static"}),
+        frozenset({"mixed_static"}),
+        _same_change_elsewhere,
+        "frames sent on /tf_static and on /tf at the same times as often: frames of one message (Franka teleop's "
+        "base and fr3_link0), one publisher's choice of topic, said once",
+        keys=_change,
     ),
     Rule(
         frozenset({"urdf_extra"}),

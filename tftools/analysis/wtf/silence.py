@@ -14,6 +14,7 @@ import numpy as np
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, duration, edge, listed
+from tftools.core.arrays import BoolArray, Int32Array, Int64Array
 from tftools.core.figures import pause_rows, record_span
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.contents import IN_METADATA, OfferedQos, is_static_topic
@@ -179,7 +180,7 @@ def stall(scene: Scene) -> Iterator[Finding]:
             "stall",
             f"{which} went silent {when}, for {_range(lengths[0], lengths[-1])} "
             f"({listed([edge(*p.edge) for p in first])}){meanwhile}: "
-            f"{'everything on /tf' if every else 'they'} stopped at once",
+            f"{'everything on /tf' if every and look not in _KEPT_COMING else 'they'} stopped at once",
             f"{_LOOK[look]}; lookups inside the stall interpolate across it",
             tuple(f for p in first for f in p.edge),
             first_time=start,
@@ -196,12 +197,18 @@ def _together(spread: float) -> str:
     return "less than 1 ms apart" if spread < 0.0005 else f"within {duration(spread)} of each other"
 
 
+#: The looks where transforms kept arriving during the stall: not everything on /tf stopped, the edges did.
+_KEPT_COMING = ("old stamps", "late")
+
 #: What to look at, by what the record clock saw during a stall (``_meanwhile``).
 _LOOK = {
     "nothing": "nothing reached the recorder, so what stopped is what the publishers and the recorder share: the "
     "machine (its load, a suspend), the network or DDS, or the recorder itself",
     "old stamps": "transforms kept coming, stamped no later than before: the clock they are stamped with stood "
     "still (a paused simulation, a driver's clock)",
+    "late": "transforms kept coming, new samples but none stamped inside the stall (those stamped before it came "
+    "late): the samples in between were held back or lost between the publishers and the recorder (a congested or "
+    "lossy network or WiFi, DDS, the recorder falling behind), not a clock that stood still",
     "others": "the other edges went on: look for what these publishers share (one node, one machine, one link)",
     "unknown": "look for what the publishers share: the machine's load or a suspend, the network or DDS, a paused "
     "simulation clock, the recorder falling behind",
@@ -210,21 +217,40 @@ _LOOK = {
 
 def _meanwhile(scene: Scene, pauses: list[Pause], every: bool) -> tuple[str, str]:
     """What the record clock saw during the stall, said, and which of ``_LOOK`` it points to: no transform at all
-    on /tf, transforms that did not move the stopped edges on (stamps that did not advance), or the other edges."""
+    on /tf, transforms that did not move the stopped edges on (stamps sent again: a clock that stood still; or new
+    samples stamped outside it: a link that held them back), or the other edges."""
     begin, finish = min(p.arrived[0] for p in pauses), max(p.arrived[1] for p in pauses)
     if not begin:
         return "", "unknown"
     rows = scene.rows
-    records = np.sort(rows.record_time[~rows.static])
-    inside = records[(records >= begin) & (records <= finish)]
+    moving = ~rows.static
+    order = np.argsort(rows.record_time[moving], kind="stable")
+    records = rows.record_time[moving][order]
+    within = (records >= begin) & (records <= finish)
+    inside = records[within]
     silent = int(np.diff(inside).max()) if len(inside) > 1 else finish - begin
     if silent > from_sec(scene.thresholds.max_gap) and silent * 2 >= min(p.arrived[1] - p.arrived[0] for p in pauses):
         return f"; the recorder received no transform on /tf for {duration(silent / NS_PER_S)}", "nothing"
     if not every:
         return "; the other moving edges went on", "others"
     if len(inside) > len(pauses) * 2:
+        upto = order[: int(np.searchsorted(records, finish, side="right"))]  # a stamp re-sent came before it
+        new = _new_samples(rows.parent[moving][upto], rows.child[moving][upto], rows.stamp[moving][upto])
+        if np.count_nonzero(new[within[: len(upto)]]) * 2 > len(inside):  # a real JetAcker's WiFi: no clock stopped
+            return (
+                f"; {len(inside):,} transforms arrived on /tf meanwhile, new samples but none stamped inside it",
+                "late",
+            )
         return f"; {len(inside):,} transforms arrived on /tf meanwhile, stamped no later than before", "old stamps"
     return "", "unknown"
+
+
+def _new_samples(parents: Int32Array, children: Int32Array, stamps: Int64Array) -> BoolArray:
+    """Of transforms in arrival order, those whose edge and stamp had not arrived before (a stamp re-sent is not)."""
+    keys = np.stack([parents.astype(np.int64), children.astype(np.int64), stamps], axis=1)
+    new = np.zeros(len(stamps), dtype=bool)
+    new[np.unique(keys, axis=0, return_index=True)[1]] = True
+    return new
 
 
 def _range(shortest: float, longest: float) -> str:
