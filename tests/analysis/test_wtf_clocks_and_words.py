@@ -259,6 +259,25 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published(
     assert "publish the sensor's mount" in found[("sonar_mount",)].hint
 
 
+@pytest.mark.parametrize("tf_type", ["tf/tfMessage", "tf2_msgs/TFMessage"], ids=["tf1", "tf2"])
+def test_odometry_in_a_frame_no_transform_names_is_told_so_where_no_tf_static_was_recorded(tf_type: str) -> None:
+    """A real Clearpath Husky of 2013 (ros-planning/navigation's robot_pose_ekf gps_data.bag): tf1's /tf, no
+    /tf_static topic, /encoder (nav_msgs/Odometry) in odom_combined, robot_pose_ekf's frame, and /fix in gps. The
+    odometry's own transform is what is missing, whatever became of /tf_static; the GPS's mount is what the
+    statics' words are for."""
+    rec = recording(ekf(), ros1=True)
+    (info,) = rec.contents.files
+    info.topics["/tf"] = tf_type
+    odometry = dataclasses.replace(sensor("/encoder", "odom_combined", 10, 5_000_000), type="nav_msgs/Odometry")
+    fix = dataclasses.replace(sensor("/fix", "gps", 2, 5_000_000), type="sensor_msgs/NavSatFix")
+    found = {f.frames: f for f in findings_of(Scene(rec, streams=[odometry, fix])) if f.code == "sensor_frame"}
+    hint = found[("odom_combined",)].hint
+    assert "'odom_combined' is the frame of odometry" in hint and "enable_odom_tf" in hint
+    assert "mount" not in hint and "/tf_static" not in hint
+    mount = found[("gps",)].hint
+    assert "mounts" in mount and "'odom_combined'" not in mount
+
+
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
 def test_a_mount_under_one_parent_on_tf_static_and_another_on_tf_is_two_descriptions(ros1: bool) -> None:
     """frand08/ramon_slam's cartographer bag: each laser under laser_link on /tf_static and under base_link from a

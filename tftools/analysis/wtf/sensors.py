@@ -145,15 +145,17 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
             f"{and_joined(moving)} was recorded but holds no transform: their publishers (odometry, "
             "robot_state_publisher) sent nothing while recorded; check that they ran and had their input"
         )
+    if odometry:
+        # frand08/ramon_slam's cartographer_records/test5.bag: /odom_enc in odom_enc (child base_footprint, in the
+        # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong.
+        # Before the statics' words: a Clearpath Husky of 2013 (ros-planning/navigation's gps_data.bag, tf1, no
+        # /tf_static yet) has /encoder in odom_combined, robot_pose_ekf's frame, which no mount would ever name.
+        return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3))
     also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
     # A TurtleBot3 under AMCL (PabloMatilla/IR2121 rosbag2_2023_10_21-21_16_22): /tf_static recorded,
     # 0 messages, /scan in base_scan; the frame is the URDF's, the missing part is its publisher's output.
     if (unrecorded := statics_missing(scene, "the sensors' mounts", also)) is not None:
         return unrecorded
-    if odometry:
-        # frand08/ramon_slam's cartographer_records/test5.bag: /odom_enc in odom_enc (child base_footprint, in the
-        # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong
-        return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3))
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
     named = {base_name(f) for f in missing}

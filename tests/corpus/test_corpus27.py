@@ -1,0 +1,33 @@
+"""Defects seen on the recordings added by corpus27, each on the recording that showed it.
+
+Each test skips while its recording awaits placement in the shared corpus, as the rest of the corpus tests do."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus.fetch import Recording, load_manifest
+
+_, RECORDINGS = load_manifest()
+BY_ID = {r.id: r for r in RECORDINGS}
+
+Corpus = Callable[[Recording], Path]
+
+HUSKY = "ros1-husky-real-gps-imu-tf1-robot-state-publisher-post-dated-half-second-2013-bag"
+
+
+def test_the_husky_s_odometry_frame_is_told_its_tf_not_a_mount(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real Clearpath Husky of 2013 (tf1's /tf, before /tf_static): /encoder's Odometry is in odom_combined,
+    robot_pose_ekf's frame, which did not run. Its own transform is missing, as `tfx filter /encoder` says; wtf
+    told it "the sensors' mounts come on /tf ... run their publisher", the words for /fix's GPS mount."""
+    result = tfx("wtf", corpus(BY_ID[HUSKY]), "--format", "json")
+    (bag,) = json.loads(result.stdout)["bags"]
+    missing = {tuple(f["frames"]): f for f in bag["findings"] if f["code"] == "sensor_frame"}
+    assert sorted(missing) == [("/gps",), ("/world",), ("odom_combined",)]
+    encoder = missing[("odom_combined",)]["hint"]
+    assert "'odom_combined' is the frame of odometry (nav_msgs/Odometry)" in encoder and "mounts" not in encoder
+    assert "from before /tf_static: the sensors' mounts come on /tf" in missing[("/gps",)]["hint"]
+    assert result.code == 1
