@@ -260,6 +260,25 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published(
 
 
 @pytest.mark.parametrize("tf_type", ["tf/tfMessage", "tf2_msgs/TFMessage"], ids=["tf1", "tf2"])
+def test_data_in_a_frame_no_transform_names_is_told_both_remedies_where_no_tf_static_was_recorded(
+    tf_type: str,
+) -> None:
+    """A real robot of 2013 (Ansrala/Delta_Project_3's teleop.bag): tf1's /tf, its laser mounted as 'laser' by a
+    static_transform_publisher, its scans in base_laser. The missing mount's publisher is one remedy, the driver's
+    frame_id the other (here the right one), as `tfx filter` says both."""
+    rec = recording(ekf(), ros1=True)
+    (info,) = rec.contents.files
+    info.topics["/tf"] = tf_type
+    (found,) = [
+        f
+        for f in findings_of(Scene(rec, streams=[sensor("/scan", "base_laser", 10, 5_000_000)]))
+        if f.code == "sensor_frame"
+    ]
+    assert "run their publisher" in found.hint and "or set the driver's frame_id parameter" in found.hint
+    assert "did you mean" not in found.message
+
+
+@pytest.mark.parametrize("tf_type", ["tf/tfMessage", "tf2_msgs/TFMessage"], ids=["tf1", "tf2"])
 def test_odometry_in_a_frame_no_transform_names_is_told_so_where_no_tf_static_was_recorded(tf_type: str) -> None:
     """A real Clearpath Husky of 2013 (ros-planning/navigation's robot_pose_ekf gps_data.bag): tf1's /tf, no
     /tf_static topic, /encoder (nav_msgs/Odometry) in odom_combined, robot_pose_ekf's frame, and /fix in gps. The

@@ -31,3 +31,18 @@ def test_the_husky_s_odometry_frame_is_told_its_tf_not_a_mount(corpus: Corpus, t
     assert "'odom_combined' is the frame of odometry (nav_msgs/Odometry)" in encoder and "mounts" not in encoder
     assert "from before /tf_static: the sensors' mounts come on /tf" in missing[("/gps",)]["hint"]
     assert result.code == 1
+
+
+DELTA = "ros1-custom-diff-drive-real-hokuyo-scans-in-unnamed-frame-clock-at-2000-tf1-2013-bag"
+
+
+def test_scans_in_a_frame_tf_never_names_are_told_the_frame_id_remedy_too(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real custom diff-drive robot of 2013 (tf1's /tf): its Hokuyo's scans are in base_laser, its laser mounted
+    as 'laser'. wtf told only "run their publisher"; the driver's frame_id is the other remedy, as `tfx filter
+    /scan` says ("publish its frame's transform, or fix the frame_id")."""
+    result = tfx("wtf", corpus(BY_ID[DELTA]), "--format", "json")
+    (bag,) = json.loads(result.stdout)["bags"]
+    (missing,) = [f for f in bag["findings"] if f["code"] == "sensor_frame"]
+    assert missing["frames"] == ["base_laser"]
+    assert "run their publisher, or set the driver's frame_id parameter" in missing["hint"]
+    assert result.code == 1

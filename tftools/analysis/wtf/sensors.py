@@ -151,7 +151,13 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
         # Before the statics' words: a Clearpath Husky of 2013 (ros-planning/navigation's gps_data.bag, tf1, no
         # /tf_static yet) has /encoder in odom_combined, robot_pose_ekf's frame, which no mount would ever name.
         return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3))
-    also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
+    # Both remedies, as `tfx filter` words it: a real robot of 2013 (Ansrala/Delta_Project_3's teleop.bag) has its
+    # Hokuyo's scans in base_laser while its static_transform_publisher mounts the laser as 'laser'.
+    also = (
+        "; if the frame's name is a typo, set the driver's frame_id parameter instead"
+        if typo
+        else ", or set the driver's frame_id parameter to the frame of the tree the sensor is at"
+    )
     # A TurtleBot3 under AMCL (PabloMatilla/IR2121 rosbag2_2023_10_21-21_16_22): /tf_static recorded,
     # 0 messages, /scan in base_scan; the frame is the URDF's, the missing part is its publisher's output.
     if (unrecorded := statics_missing(scene, "the sensors' mounts", also)) is not None:
