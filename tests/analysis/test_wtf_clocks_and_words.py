@@ -259,6 +259,17 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published(
     assert "publish the sensor's mount" in found[("sonar_mount",)].hint
 
 
+def test_every_sample_seconds_late_is_told_the_publisher_s_clock_is_behind() -> None:
+    """A hobby robot of 2016 (qjones81/johnny5's data.bag): three publishers' edges all recorded 5.6-6.2 s after
+    their stamps, none sooner: the robot's clock ~5.7 s behind the recorder's, as ``future`` says of one ahead. A
+    node half a second late on every sample is not told of clocks."""
+    behind = recording(healthy(ekf=ekf(delay=5 * NS_PER_S + 700 * MS)))
+    (late,) = [f for f in findings_of(Scene(behind)) if f.code == "delay"]
+    assert "none arrived sooner than 5.7 s" in late.hint and "clock runs behind the recorder's" in late.hint
+    (slow,) = [f for f in findings_of(Scene(recording(healthy(ekf=ekf(delay=500 * MS))))) if f.code == "delay"]
+    assert "clock" not in slow.hint and "a busy publisher, a slow link" in slow.hint
+
+
 @pytest.mark.parametrize("tf_type", ["tf/tfMessage", "tf2_msgs/TFMessage"], ids=["tf1", "tf2"])
 def test_data_in_a_frame_no_transform_names_is_told_both_remedies_where_no_tf_static_was_recorded(
     tf_type: str,

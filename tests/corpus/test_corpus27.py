@@ -46,3 +46,19 @@ def test_scans_in_a_frame_tf_never_names_are_told_the_frame_id_remedy_too(corpus
     assert missing["frames"] == ["base_laser"]
     assert "run their publisher, or set the driver's frame_id parameter" in missing["hint"]
     assert result.code == 1
+
+
+JOHNNY5 = "ros1-hobby-diff-drive-real-neato-lidar-robot-clock-5.7-s-behind-recorder-2016-bag"
+
+
+def test_a_robot_clock_behind_the_recorder_s_is_told_as_a_clock(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A hobby robot of 2016: its three publishers' edges all recorded 5.6-6.2 s after their stamps, none sooner.
+    wtf said each 'arrives late' and to find a busy publisher or a slow link; the bytes show the robot's clock
+    ~5.7 s behind the recorder's, which the delay's hint now says first."""
+    result = tfx("wtf", corpus(BY_ID[JOHNNY5]), "--format", "json")
+    (bag,) = json.loads(result.stdout)["bags"]
+    late = [f for f in bag["findings"] if f["code"] == "delay"]
+    assert len(late) == 6
+    for finding in late:
+        assert "most likely the publisher's clock runs behind the recorder's" in finding["hint"], finding["hint"]
+    assert result.code == 0
