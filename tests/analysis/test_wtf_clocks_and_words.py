@@ -259,6 +259,60 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published(
     assert "publish the sensor's mount" in found[("sonar_mount",)].hint
 
 
+def test_every_sample_seconds_late_is_told_the_publisher_s_clock_is_behind() -> None:
+    """A hobby robot of 2016 (qjones81/johnny5's data.bag): three publishers' edges all recorded 5.6-6.2 s after
+    their stamps, none sooner: the robot's clock ~5.7 s behind the recorder's, as ``future`` says of one ahead. A
+    node half a second late on every sample is not told of clocks."""
+    behind = recording(healthy(ekf=ekf(delay=5 * NS_PER_S + 700 * MS)))
+    (late,) = [f for f in findings_of(Scene(behind)) if f.code == "delay"]
+    assert "none arrived sooner than 5.7 s" in late.hint and "clock runs behind the recorder's" in late.hint
+    (slow,) = [f for f in findings_of(Scene(recording(healthy(ekf=ekf(delay=500 * MS))))) if f.code == "delay"]
+    assert "clock" not in slow.hint and "a busy publisher, a slow link" in slow.hint
+
+
+def test_data_in_a_frame_no_transform_names_is_told_both_remedies_in_a_tf1_recording() -> None:
+    """A real robot of 2013 (Ansrala/Delta_Project_3's teleop.bag): tf1's /tf, its laser mounted as 'laser' by a
+    static_transform_publisher, its scans in base_laser. The missing mount's publisher is one remedy, the driver's
+    frame_id the other (here the right one), as `tfx filter` says both. Where /tf_static was not recorded (tf2's
+    /tf) the hint is that, as before."""
+    rec = recording(ekf(), ros1=True)
+    (info,) = rec.contents.files
+    info.topics["/tf"] = "tf2_msgs/TFMessage"
+    (unrecorded,) = [
+        f
+        for f in findings_of(Scene(rec, streams=[sensor("/scan", "base_laser", 10, 5_000_000)]))
+        if f.code == "sensor_frame"
+    ]
+    assert "frame_id" not in unrecorded.hint and "were not recorded, or nothing published them" in unrecorded.hint
+    info.topics["/tf"] = "tf/tfMessage"
+    (found,) = [
+        f
+        for f in findings_of(Scene(rec, streams=[sensor("/scan", "base_laser", 10, 5_000_000)]))
+        if f.code == "sensor_frame"
+    ]
+    assert "run their publisher" in found.hint and "or set the driver's frame_id parameter" in found.hint
+    assert "did you mean" not in found.message
+
+
+@pytest.mark.parametrize("tf_type", ["tf/tfMessage", "tf2_msgs/TFMessage"], ids=["tf1", "tf2"])
+def test_odometry_in_a_frame_no_transform_names_is_told_so_where_no_tf_static_was_recorded(tf_type: str) -> None:
+    """A real Clearpath Husky of 2013 (ros-planning/navigation's robot_pose_ekf gps_data.bag): tf1's /tf, no
+    /tf_static topic, /encoder (nav_msgs/Odometry) in odom_combined, robot_pose_ekf's frame, and /fix in gps. The
+    odometry's own transform is what is missing, whatever became of /tf_static; the GPS's mount is what the
+    statics' words are for."""
+    rec = recording(ekf(), ros1=True)
+    (info,) = rec.contents.files
+    info.topics["/tf"] = tf_type
+    odometry = dataclasses.replace(sensor("/encoder", "odom_combined", 10, 5_000_000), type="nav_msgs/Odometry")
+    fix = dataclasses.replace(sensor("/fix", "gps", 2, 5_000_000), type="sensor_msgs/NavSatFix")
+    found = {f.frames: f for f in findings_of(Scene(rec, streams=[odometry, fix])) if f.code == "sensor_frame"}
+    hint = found[("odom_combined",)].hint
+    assert "'odom_combined' is the frame of odometry" in hint and "enable_odom_tf" in hint
+    assert "mount" not in hint and "/tf_static" not in hint
+    mount = found[("gps",)].hint
+    assert "mounts" in mount and "'odom_combined'" not in mount
+
+
 @pytest.mark.parametrize("ros1", [True, False], ids=["ros1", "ros2"])
 def test_a_mount_under_one_parent_on_tf_static_and_another_on_tf_is_two_descriptions(ros1: bool) -> None:
     """frand08/ramon_slam's cartographer bag: each laser under laser_link on /tf_static and under base_link from a

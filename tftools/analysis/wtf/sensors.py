@@ -82,10 +82,11 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         )
 
 
-def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
+def statics_missing(scene: Scene, what: str, also: str = "", renamed: str = "") -> str | None:
     """Why the tree holds no static transform where /tf_static was asked for: it was not recorded (``what``, the
     transforms it would carry, were not recorded or never sent: the bytes hold neither), or recorded empty; None
-    where static transforms were recorded."""
+    where static transforms were recorded. ``renamed``, the other remedy where a tf1 recording's mounts all came
+    on /tf and were recorded (data in a frame the publisher names otherwise)."""
     statics = [t for t in scene.recording.contents.topics if is_static_topic(t)]
     if scene.rows.static.any() or not statics:
         return None
@@ -97,7 +98,7 @@ def statics_missing(scene: Scene, what: str, also: str = "") -> str | None:
             return (
                 f"this recording's /tf is tf1's ({TF1_MESSAGE}), from before /tf_static: {what} come on /tf (tf's "
                 "static_transform_publisher, robot_state_publisher), which was recorded: nothing published the "
-                f"missing ones; run their publisher{also}"
+                f"missing ones; run their publisher{also or renamed}"
             )
         record = record_command(scene.ros2)
         # A real Pioneer 3-DX (murillo-teixeira/monte-carlo-localization's test1.bag, `rosbag record -a`): no
@@ -145,15 +146,21 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
             f"{and_joined(moving)} was recorded but holds no transform: their publishers (odometry, "
             "robot_state_publisher) sent nothing while recorded; check that they ran and had their input"
         )
-    also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
-    # A TurtleBot3 under AMCL (PabloMatilla/IR2121 rosbag2_2023_10_21-21_16_22): /tf_static recorded,
-    # 0 messages, /scan in base_scan; the frame is the URDF's, the missing part is its publisher's output.
-    if (unrecorded := statics_missing(scene, "the sensors' mounts", also)) is not None:
-        return unrecorded
     if odometry:
         # frand08/ramon_slam's cartographer_records/test5.bag: /odom_enc in odom_enc (child base_footprint, in the
-        # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong
+        # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong.
+        # Before the statics' words: a Clearpath Husky of 2013 (ros-planning/navigation's gps_data.bag, tf1, no
+        # /tf_static yet) has /encoder in odom_combined, robot_pose_ekf's frame, which no mount would ever name.
         return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3))
+    also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
+    # Where tf1's /tf carried every mount and was recorded, both remedies, as `tfx filter` words them: a real robot
+    # of 2013 (Ansrala/Delta_Project_3's teleop.bag) has its Hokuyo's scans in base_laser while its
+    # static_transform_publisher mounts the laser as 'laser'. A TurtleBot3 under AMCL (PabloMatilla/IR2121
+    # rosbag2_2023_10_21-21_16_22): /tf_static recorded, 0 messages, /scan in base_scan; the frame is the URDF's,
+    # the missing part is its publisher's output, not a frame_id.
+    renamed = ", or set the driver's frame_id parameter to the frame of the tree the sensor is at"
+    if (unrecorded := statics_missing(scene, "the sensors' mounts", also, renamed)) is not None:
+        return unrecorded
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
     named = {base_name(f) for f in missing}

@@ -210,6 +210,11 @@ def _senders(scene: Scene, e: EdgeSamples, stamps: Int64Array, early: BoolArray)
     return by, int(np.unique(sent[np.isin(sent, stamps)]).size)
 
 
+#: No sample of an edge sooner than this after its stamp: a clock behind the recorder's more likely than a link or a
+#: slow node (roswtf's 1 s for out-of-date transforms); a node stamping with its input's time is late by less.
+CLOCK_BEHIND_S = 1.0
+
+
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
 def delay(scene: Scene) -> Iterator[Finding]:
     limit = from_sec(scene.thresholds.delay)
@@ -223,6 +228,14 @@ def delay(scene: Scene) -> Iterator[Finding]:
         by = scene.by(e.authorities)
         step = scene.timeline.resolution
         coarse = f"; at least: ROS time at arrival ticks every {duration(step / NS_PER_S)}" if step > FINE_STEP else ""
+        causes = "a busy publisher, a slow link, stamping with an old acquisition time"
+        if delays.min() > from_sec(CLOCK_BEHIND_S):
+            # a hobby robot of 2016 (qjones81/johnny5's data.bag): every edge of three publishers 5.6-6.2 s late at
+            # 10-50 Hz, none ever sooner: the robot's clock behind the recorder's, as ``future`` says of one ahead
+            causes = (
+                f"none arrived sooner than {duration(delays.min() / NS_PER_S)} after its stamp: most likely the "
+                f"publisher's clock runs behind the recorder's (sync the clocks: chrony/NTP); else {causes}"
+            )
         yield e.finding(
             Severity.warning,
             "delay",
@@ -231,8 +244,8 @@ def delay(scene: Scene) -> Iterator[Finding]:
             f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)}{coarse}), "
             f"first at {scene.at(int(records[late].min()))}",
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
-            "waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
-            "delays it (a busy publisher, a slow link, stamping with an old acquisition time)",
+            f"waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
+            f"delays it ({causes})",
             stamps[late],
         )
 
