@@ -17,6 +17,7 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
+from tftools.core.figures import seconds_in_words
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -376,11 +377,17 @@ def jump(scene: Scene) -> Iterator[Finding]:
         )
         detected = scene.detections.get(samples.key)
         what = f", a detection ({detected[0]})," if detected is not None else ""
+        largest = int(found.at[found.largest])
+        # a step is judged by its speed: without its interval, "the largest 12.9 degrees" (in 9 ms) beside a
+        # real ArUco marker's 22.8 degrees in 79 ms (five times the 90 degrees a second it turned for 0.4 s
+        # explains that) read as a wrong figure
+        took = seconds_in_words(int(samples.stamps[largest]) - int(samples.stamps[largest - 1]))
         yield samples.finding(
             Severity.warning,
             "jump",
             f"{edge(*samples.key)}{scene.by(samples.authorities)}{what} jumped {_excursions(samples.values, found)} "
-            f"further than its own motion explains: the largest {_largest(found)} at "
+            f"further than its own motion explains in the time {'each' if len(found) > 1 else 'it'} took: the "
+            f"largest {_largest(found)} in {took} at "
             f"{scene.at(int(when[found.largest]), samples.recorded_at(int(when[found.largest])))}, the first at "
             f"{scene.at(int(when[0]), samples.recorded_at(int(when[0])))}",
             why,
