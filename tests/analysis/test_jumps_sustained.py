@@ -78,3 +78,14 @@ def test_a_step_six_times_the_pace_the_edge_sustains_between_standstills_jumps()
 def test_a_step_within_five_times_the_pace_the_edge_sustains_is_its_own_motion() -> None:
     stamps, values = _odometry([*STILL, *DRIVE, *STILL, *DRIVE, *STILL, 0.19, *STILL])
     assert len(jumps.jumps(stamps, values)) == 0
+
+
+def test_a_pose_toggling_between_two_solutions_is_no_sustained_run() -> None:
+    """Corpus ``ros2-aruco-camera-drone-markers-two-robots-real-2024-db3``: a marker's pose toggles 12 degrees
+    between its two solutions every sample for half a second, each toggle coming back: no motion the edge
+    sustains, so it excuses no flip that stays (the real marker's run of toggles, 234 degrees a second, let 7 of
+    its 8 flips too far for their 9-27 ms by)."""
+    toggles = [12.0, -12.0] * 3
+    stamps, values = _heading([*STRAIGHT, *toggles, *STRAIGHT, 15.0, 0.1, -0.2, *STRAIGHT])
+    found = jumps.jumps(stamps, values)
+    assert len(found) == 1 and round(float(found.degrees[0])) == 15

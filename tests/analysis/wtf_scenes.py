@@ -425,7 +425,7 @@ PROBLEMS = {
         ("odom", "base_link"),
         "/ekf",
         "warning",  # lookups through it work: a jump is never an error (issue 39)
-        words=("REP 105", "1.992 m", "28.5°"),
+        words=("REP 105", "1.992 m", "28.5° in 0.020 s"),
     ),
     "map_corrections": Problem(
         "map_corrections",

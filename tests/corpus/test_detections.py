@@ -54,6 +54,28 @@ def test_a_markers_pose_steps_are_said_as_a_detectors_not_localization(
     assert "ambiguous" in jumped["hint"] and "map -> odom" not in jumped["hint"], jumped
 
 
+def test_aruco_marker_0s_flips_are_judged_without_its_toggles(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """marker_0's pose toggles between its two solutions every sample at +48.4-48.8 s (11-12 degrees in 18-45
+    ms, each coming back): no motion it sustains (a run of 234 degrees a second, which excused all but one of its
+    flips). Its 8 flips too far for their 9-27 ms count, the largest 12.9 degrees."""
+    jumped = _of(_findings(tfx, corpus(BY_ID[ARUCO])), "jump", "marker_0")
+    assert "jumped 8 times" in jumped["message"], jumped
+    assert "the largest 0.001 m and 12.9° in 0.009 s at 1728644357.784 (+51.3 s)" in jumped["message"], jumped
+
+
+def test_aruco_marker_0s_largest_jump_is_said_with_its_interval(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Its 14.8 and 22.8 degree flips in 59 and 79 ms (+8.2, +14.3 s) are within five times the 90 degrees a
+    second it turns for 0.4 s at +27 s: its own motion. A jump is judged by its speed, so "the largest 12.9
+    degrees" is believable beside them only with the 9 ms it took; the words say so."""
+    jumped = _of(_findings(tfx, corpus(BY_ID[ARUCO])), "jump", "marker_0")
+    assert "further than its own motion explains in the time each took" in jumped["message"], jumped
+    text = " ".join(tfx("wtf", corpus(BY_ID[ARUCO])).stdout.split())
+    assert (
+        "jumped once further than its own motion explains in the time it took: the largest 0.014 m and 5.9° in 0.010 s"
+        in text
+    )
+
+
 def test_aruco_marker_222_is_seen_in_bursts_the_same_in_wtf_monitor_and_report(
     corpus: Corpus,
     tfx: Tfx,  # noqa: F811
