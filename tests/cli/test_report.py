@@ -238,8 +238,10 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
         recorded_tf = "was /tf recorded? record it with ros2 bag record /tf /tf_static"  # the bag's ROS's words
         topic, hint = [], f"{recorded_tf}, or pick other topics with --topic"
         filtered = tfx("filter", "-b", bag)
-        only = f"({recorded_tf}; tfx filter reads /tf and /tf_static only)\n"
-        assert filtered.code == 2 and filtered.stderr.endswith(only), filtered.stderr
+        only = f"; {recorded_tf}; tfx filter reads /tf and /tf_static only; a tree for its data must hold laser: "
+        assert filtered.code == 2 and only in filtered.stderr, filtered.stderr
+        # the frame its data is stamped in: what the tree it needs must hold (issue 39, notf39)
+        assert "its data is stamped in laser (/scan)" in filtered.stderr, filtered.stderr
     else:
         bag, topic, hint = SAMPLE_BAGS["ros1"], ["--topic", "/nothing"], "/tf and /tf_static carry transforms: leave"
     commands: dict[str, list[str | Path]] = {
@@ -254,12 +256,14 @@ def test_a_recording_without_transforms_gets_the_same_hint_from_every_command(
         result = tfx(*args, *topic)
         assert result.code == 2, name
         check_stderr(result.stderr, result.code)
-        hints[name] = result.stderr.rstrip("\n").rpartition(" (")[2]
-    assert hints["frames"].startswith(hint) and set(hints.values()) == {hints["frames"]}, hints
+        said = result.stderr.rstrip("\n")
+        hints[name] = said[said.index(hint) :].removesuffix(")")  # "(hint)", or "; hint" after parentheses
+    assert set(hints.values()) == {hints["frames"]}, hints
+    assert ("; a tree for its data must hold laser: " in hints["frames"]) is (recorded == "without tf"), hints
     # wtf, which reads on and says it as its no_tf finding, gives the same hint, and so does the report's page
     wtf = tfx("wtf", "-b", bag, *topic, "-f", "json")
     (no_tf,) = [f for b in json.loads(wtf.stdout)["bags"] for f in b["findings"] if f["code"] == "no_tf"]
-    assert f"{no_tf['hint']})" == hints["frames"], (no_tf["hint"], hints)
+    assert no_tf["hint"] == hints["frames"], (no_tf["hint"], hints)
     page = tmp_path / "report.html"
     assert wtf.code == tfx("report", "-b", bag, *topic, "-o", page).code == 1
     assert no_tf["hint"] in html.unescape(page.read_text())

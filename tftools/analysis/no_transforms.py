@@ -3,7 +3,13 @@ were not read: what else to read, or why nothing was."""
 
 from __future__ import annotations
 
-from tftools.sources.errors import NoTransformsError, tf_unrecorded
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from tftools.sources.errors import NoTransformsError, SourceError, tf_unrecorded
+
+if TYPE_CHECKING:
+    from tftools.analysis.data_frames import DataFrames
 
 
 def no_transforms_hint(error: NoTransformsError, *, chosen: bool = True) -> str:
@@ -27,3 +33,22 @@ def no_transforms_hint(error: NoTransformsError, *, chosen: bool = True) -> str:
         options = " ".join(f"--topic {t}" for t in carriers)
         return f"{', '.join(carriers)}: of a transform type, read with {options}"
     return hint.get(error.cause, error.hint)
+
+
+def no_transforms_data(error: NoTransformsError) -> DataFrames:
+    """What the data of a recording without any transform (``error``'s, not one whose transforms are on other
+    topics) says of the tree it needs, read again with its headers as ``tfx wtf`` reads it, so that every
+    command says what wtf's ``no_tf`` does; nothing for a recording not on this machine or not read again."""
+    # not at import: the readers, which `tfx --help` needs not
+    from tftools.analysis.data_frames import DataFrames, data_frames
+    from tftools.analysis.reading import Reading
+
+    if error.cause not in ("absent", "unread") or error.carriers or not all(Path(p).exists() for p in error.paths):
+        return DataFrames()
+    try:
+        recording = Reading(topics=tuple(error.topics), headers=(), allow_empty=True).read(error.paths)
+    except SourceError:  # it was read once: a second failure leaves the error as it was
+        return DataFrames()
+    contents = recording.contents
+    others = {t: kind for f in contents.files for t, kind in f.topics.items() if t not in contents.topics}
+    return data_frames(recording.stamped.streams, others)

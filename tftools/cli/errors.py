@@ -113,9 +113,10 @@ def no_transforms(error: NoTransformsError, *, chosen: bool = True) -> UsageErro
     """``error`` in the command line's words, with the one hint of every command for a recording whose
     transforms were not read (``analysis.no_transforms``); ``chosen``: the command's topics can be chosen with
     --topic (not tfx filter's)."""
-    from tftools.analysis.no_transforms import no_transforms_hint
+    from tftools.analysis.no_transforms import no_transforms_data, no_transforms_hint
 
-    return UsageError(str(error), no_transforms_hint(error, chosen=chosen))
+    data = no_transforms_data(error)
+    return UsageError(f"{error}{data.said}", no_transforms_hint(error, chosen=chosen) + data.hint)
 
 
 def _no_ros(error: NoRosSelectedError) -> UsageError:

@@ -107,6 +107,8 @@ class NoTransformsError(SourceError):
     ) -> None:
         where = ", ".join(paths)
         self.ros2 = ros2
+        #: Where nothing was read, and the topics read: what a second look reads (``analysis.no_transforms``).
+        self.paths, self.topics = list(paths), list(topics)
         #: The found topics of a transform type not among those read: what to read instead ("absent" only).
         self.carriers = [t for t in carriers if t in found and t not in topics]
         if lost:  # the transforms were there, but damage took every one

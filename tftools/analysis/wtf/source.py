@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
+from tftools.analysis.data_frames import DataFrames, data_frames
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.no_transforms import no_transforms_hint
 from tftools.analysis.wtf.registry import declare, register
@@ -35,7 +36,17 @@ def no_tf(scene: Scene) -> Iterator[Finding]:
             if contents.unread
             else f"on {', '.join(contents.topics)} {where}{present}"
         )
-        yield Finding(Severity.error, "no_tf", f"no transforms {said}", hint)
+        # with no transform anywhere, the frames its data names are the tree to record (not so when it
+        # has transforms on topics not read: the hint says to read those)
+        data = DataFrames() if carriers else data_frames(scene.streams, others)
+        yield Finding(
+            Severity.error,
+            "no_tf",
+            f"no transforms {said}{data.said}",
+            hint + data.hint,
+            frames=data.frames,
+            figures=dict(data.figures),
+        )
     elif scene.rows.static.all() and not silent_moving_topics(scene):  # else ``silent_tf`` says why
         yield Finding(
             Severity.info,

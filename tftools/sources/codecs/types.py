@@ -55,6 +55,12 @@ def starts_with_header(msgtype: str, fielddefs: Mapping[str, Any]) -> bool:
     return detail in HEADER_TYPES
 
 
+def known_type(type_name: str) -> bool:
+    """Whether a type store of tfx's (Noetic's or ROS 2's) defines ``type_name``: one it does not (a vendor's
+    driver type) has its header read only where the recording gives its definition."""
+    return any(rosidl_name(type_name) in typestore(name).fielddefs for name in ("ros1_noetic", *ROS2_STORES))
+
+
 def definition_starts_with_header(msgtype: str, definition: str) -> bool:
     """Whether a ROS1 message definition (``message_definition`` of a connection header, nested
     types included) of ``msgtype`` has a ``Header`` as its first field."""
