@@ -56,8 +56,8 @@ def data_frames(streams: Sequence[StampedMessages], topics: Mapping[str, str]) -
                 frames.setdefault(frame, []).append(stream.topic)
             else:
                 unframed.append(stream.topic)
-    parts = [f"{frame} ({listed(topics, _MOST)})" for frame, topics in mounted.items()]
-    parts += [f"{frame} (poses on {listed(topics, _MOST)})" for frame, topics in posed.items()]
+    parts = [f"{frame} ({listed(named, _MOST)})" for frame, named in mounted.items()]
+    parts += [f"{frame} (poses on {listed(named, _MOST)})" for frame, named in posed.items()]
     if unframed:
         parts.append(f"an empty frame_id ({listed(unframed, _MOST)}), which a tree cannot hold")
     read = {s.topic for s in streams}
@@ -75,7 +75,7 @@ def data_frames(streams: Sequence[StampedMessages], topics: Mapping[str, str]) -
             "or was not recorded"
         )
     if posed:
-        carriers = [f"{t} as {recorded[t]}" for t in dict.fromkeys(t for topics in posed.values() for t in topics)]
+        carriers = [f"{t} as {recorded[t]}" for t in dict.fromkeys(t for named in posed.values() for t in named)]
         needs.append(
             f"the poses on {listed(carriers, _MOST)} become tf only through a node that broadcasts them: "
             "missing or not recorded"
