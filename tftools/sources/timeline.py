@@ -179,9 +179,8 @@ class Timeline:
         ``replay_shift``), which a simulation slower than real time stretches past its stamps' (the JetAcker's,
         stamped over 4.25 s, plays over 62.8 s: +21 s into it holds transforms)."""
         span = self.span_of(children)
-        if span != (self.tf_start, self.tf_end) or self.reference is not Reference.NONE or self.record_start <= 0:
-            return span
-        if self.record_clock_void:
+        whole = span == (self.tf_start, self.tf_end)
+        if not whole or self.reference is not Reference.NONE or self.record_start <= 0 or self.record_clock_void:
             return span
         return min(span[0], self.tf_start), max(span[1], self.record_end - self.replay_shift)
 

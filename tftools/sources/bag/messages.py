@@ -42,6 +42,11 @@ _ALONE_BYTES = 512 << 10  # payload bytes of one codec handed at once that are d
 _ROOM_FROM_ROWS = 24_000
 
 
+def _cores() -> int:
+    """The cores this process may run on (elsewhere than Linux, not asked: one)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+
+
 def _a_core_free() -> bool:
     """Whether the ``Spare``'s thread would find a core of its own, or one shared with a single other thread, now:
     no more threads running or ready to run on the machine (``/proc/loadavg``'s, this one among them) than the
@@ -51,14 +56,9 @@ def _a_core_free() -> bool:
     try:
         with open("/proc/loadavg") as f:
             running = int(f.read().split()[3].split("/")[0])
-        return running <= len(os.sched_getaffinity(0))
-    except (OSError, ValueError, IndexError, AttributeError):
+        return running <= _cores()
+    except (OSError, ValueError, IndexError):
         return False
-
-
-def _cores() -> int:
-    """The cores this process may run on (elsewhere than Linux, not asked: one)."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
 
 
 #: Payloads of one codec added together: their bytes, where each payload begins in them and how
