@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -84,6 +85,32 @@ def test_rows_come_back_in_record_order_with_the_refused_ones() -> None:
     assert batch_rows(recording.transforms) == expected
     assert recording.transform_count == len(expected) == 10
     assert recording.buffer.lookup("map", "base", 30).translation == (6.0, 0.0, 0.0)
+
+
+def _table_reordered(batch: TransformBatch, names: list[str]) -> TransformBatch:
+    """``batch`` over the table ``names`` (its own names, in another order, and others): as a reader that
+    interned its names in another order, a header's frame among them, would have made it."""
+    number = np.array([names.index(n) for n in batch.frame_names], np.int32)
+    return replace(batch, frame_names=names, parent=number[batch.parent], child=number[batch.child])
+
+
+def test_the_refused_rows_name_their_frames_as_they_first_come_whatever_the_readers_table() -> None:
+    """The refused rows (``Recording.refused``) share the reader's table, interned in the order its parts were
+    decoded, which depends on how the read grouped them (every header's frame among them): their names are the
+    ones they use, as they first come, so that every grouping gives one batch."""
+    first, second = _two_parts()
+    tables = (
+        [*first.frame_names, "camera"],
+        ["camera", *reversed(first.frame_names)],
+    )
+    found = []
+    for table in tables:
+        recording = recording_of(_contents([_table_reordered(first, table), _table_reordered(second, table)]))
+        refused = recording.refused
+        found.append((list(refused.frame_names), refused.parent.tolist(), refused.child.tolist()))
+    assert found[0] == found[1]
+    assert found[0] == (["odom", "base", "map", "/odom", ""], [0, 0, 2, 4], [1, 0, 3, 1]), found[0]
+    assert batch_rows(recording_of(_contents(list(_two_parts()))).transforms) == batch_rows([first, second])
 
 
 def test_a_buffer_as_a_recording_gives_back_its_rows_and_the_refused_ones_its_log_keeps() -> None:

@@ -144,6 +144,20 @@ def concat_batches(batches: Sequence[TransformBatch]) -> TransformBatch:
     return TransformBatch(frame_names=frames.names, authorities=authorities.names, **columns)
 
 
+def named_by_use(batch: TransformBatch) -> TransformBatch:
+    """``batch`` over only the frame names its rows use, numbered as they first come (a row's parent, then its
+    child): the same rows give the same table, whatever order a reader interned its names in."""
+    if not len(batch):
+        return batch
+    ids = np.stack([batch.parent, batch.child], axis=1).ravel()
+    used, first = np.unique(ids, return_index=True)
+    used = used[np.argsort(first)]
+    number = np.zeros(len(batch.frame_names), np.int32)
+    number[used] = np.arange(len(used), dtype=np.int32)
+    names = [batch.frame_names[i] for i in used.tolist()]
+    return replace(batch, frame_names=names, parent=number[batch.parent], child=number[batch.child])
+
+
 def take_rows(batch: TransformBatch, rows: IntpArray | slice) -> TransformBatch:
     """The given rows of ``batch``, in that order, sharing its string tables (a slice: views, not copies)."""
     return replace(batch, **{name: getattr(batch, name)[rows] for name in ROW_COLUMNS})

@@ -11,7 +11,7 @@ from dataclasses import field
 import numpy as np
 
 from tftools.core.arrays import Int64Array
-from tftools.core.batch import TransformBatch, concat_batches, take_rows
+from tftools.core.batch import TransformBatch, concat_batches, named_by_use, take_rows
 from tftools.core.buffer import Buffer
 from tftools.core.semantics import Semantics
 from tftools.core.stored import stored_rows
@@ -175,7 +175,10 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
     _malloc_trim()(0)
     timeline = timeline_of(buffer, contents.clock, contents.start, contents.end, record_step)
     clock.reset(timeline.end)
-    return Recording(buffer, contents, timeline, concat_batches(refused), np.concatenate(refused_sequence))
+    # its names as its rows first use them: the reader's table (every name of the file, its headers' too) is
+    # interned in the order its parts were decoded, which depends on how the read grouped them
+    unstored = named_by_use(concat_batches(refused))
+    return Recording(buffer, contents, timeline, unstored, np.concatenate(refused_sequence))
 
 
 #: Bytes of decoded parts freed before their pages are given back to the system.
