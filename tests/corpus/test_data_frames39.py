@@ -11,6 +11,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import Recording, load_manifest
 
@@ -82,3 +84,35 @@ def test_a_recording_with_tf_read_on_another_topic_is_told_to_read_tf_only(corpu
     finding = _no_tf(tfx, corpus(BY_ID[AGV]), "--topic", "/scan")
     assert finding["hint"] == "/tf and /tf_static carry transforms: leave out --topic"
     assert "stamped in" not in finding["message"] and finding["frames"] == [] and finding["figures"] == {}
+
+
+@pytest.mark.parametrize("name", [AUV, CRAZYFLIE, WALKER])
+def test_every_other_command_names_the_data_frames_from_a_few_headers_per_topic(
+    corpus: Corpus, monkeypatch: pytest.MonkeyPatch, name: str
+) -> None:
+    """Commands other than wtf read the headers again on their error's path (``no_transforms_data``): the first
+    ``DATA_HEADERS`` of each topic, not every one (the AUV's /ping1d/range has 1,976, the Crazyflie's poses 754),
+    and say what every header says (wtf's ``no_tf``)."""
+    from tftools.analysis import reading
+    from tftools.analysis.data_frames import data_frames
+    from tftools.analysis.no_transforms import DATA_HEADERS, no_transforms_data
+    from tftools.sources.errors import NoTransformsError
+    from tftools.sources.recording import Recording as Read
+    from tftools.sources.recording import read_recording
+
+    path = corpus(BY_ID[name])
+    with pytest.raises(NoTransformsError) as raised:
+        read_recording([path])
+    every = read_recording([path], headers=(), allow_empty=True)
+    others = {t: kind for f in every.contents.files for t, kind in f.topics.items() if t not in every.contents.topics}
+    read_again: list[Read] = []
+
+    def kept(*args: Any, **kwargs: Any) -> Read:
+        read_again.append(read_recording(*args, **kwargs))
+        return read_again[-1]
+
+    monkeypatch.setattr(reading, "read_recording", kept)
+    assert no_transforms_data(raised.value) == data_frames(every.stamped.streams, others)
+    (again,) = read_again
+    assert [s.topic for s in again.stamped.streams] == [s.topic for s in every.stamped.streams]
+    assert max(len(s) for s in again.stamped.streams) == DATA_HEADERS < max(len(s) for s in every.stamped.streams)

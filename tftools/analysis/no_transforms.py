@@ -35,9 +35,15 @@ def no_transforms_hint(error: NoTransformsError, *, chosen: bool = True) -> str:
     return hint.get(error.cause, error.hint)
 
 
+#: The headers read of each topic (per publisher) to name the frames a recording without transforms has its data
+#: in, where a command other than wtf (which reads them all) says it: a topic's frame rarely changes.
+DATA_HEADERS = 100
+
+
 def no_transforms_data(error: NoTransformsError) -> DataFrames:
     """What the data of a recording without any transform (``error``'s, not one whose transforms are on other
-    topics) says of the tree it needs, read again with its headers as ``tfx wtf`` reads it, so that every
+    topics) says of the tree it needs, read again with the first ``DATA_HEADERS`` headers of each topic (a
+    topic's frames as wtf, which reads them all, names them, but for one first sent later), so that every
     command says what wtf's ``no_tf`` does; nothing for a recording not on this machine or not read again."""
     # not at import: the readers, which `tfx --help` needs not
     from tftools.analysis.data_frames import DataFrames, data_frames
@@ -46,7 +52,8 @@ def no_transforms_data(error: NoTransformsError) -> DataFrames:
     if error.cause not in ("absent", "unread") or error.carriers or not all(Path(p).exists() for p in error.paths):
         return DataFrames()
     try:
-        recording = Reading(topics=tuple(error.topics), headers=(), allow_empty=True).read(error.paths)
+        reading = Reading(topics=tuple(error.topics), headers=(), allow_empty=True, header_limit=DATA_HEADERS)
+        recording = reading.read(error.paths)
     except SourceError:  # it was read once: a second failure leaves the error as it was
         return DataFrames()
     contents = recording.contents

@@ -28,6 +28,7 @@ class Reading:
     headers: tuple[str, ...] | None = None
     whole: tuple[str, ...] = ()
     allow_empty: bool = False
+    header_limit: int | None = None  # the headers read of each topic at most (None: every one)
 
     def read(self, paths: Sequence[str | os.PathLike[str]], progress: ProgressCallback | None = None) -> Recording:
         """The recording at ``paths`` (several: a split one), read so."""
@@ -39,6 +40,7 @@ class Reading:
             semantics=self.semantics,
             headers=self.headers,
             whole=self.whole,
+            header_limit=self.header_limit,
         )
 
 

@@ -111,13 +111,15 @@ def read_recording(
     semantics: Semantics | None = None,
     headers: Sequence[str] | None = None,
     whole: Sequence[str] = (),
+    header_limit: int | None = None,
 ) -> Recording:
     """Read bags into a whole-recording buffer (no cache limit) answering as ``semantics`` (by default
     the recording's own); ``NoTransformsError`` when no transform was found, unless ``allow_empty``.
     With ``headers``, the sensor data's headers on those topics (none named: every topic whose
     messages start with a header) are read in the same pass (``Recording.stamped``), and so are the
-    messages of the ``whole`` topics, whole (``ROBOT_TOPICS``: ``Recording.robot``)."""
-    with BagReader(paths, topics, headers=headers, whole=whole) as reader:
+    messages of the ``whole`` topics, whole (``ROBOT_TOPICS``: ``Recording.robot``). ``header_limit``: the
+    headers read of each topic at most (``BagReader``'s)."""
+    with BagReader(paths, topics, headers=headers, whole=whole, header_limit=header_limit) as reader:
         contents = reader.read(progress=progress)
     if not contents.parts and not allow_empty:
         raise no_transforms(paths, contents)

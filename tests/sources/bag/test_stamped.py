@@ -55,6 +55,30 @@ def test_a_db3_gives_each_images_header_whole_or_compressed(tmp_path: Path, comp
     assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [frames[i % 2] for i in range(6)]
 
 
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_a_read_of_a_few_headers_per_topic_decodes_no_more(tmp_path: Path, storage: str) -> None:
+    """``header_limit`` (what names a recording's data frames where it has no tf): each topic's first headers,
+    in record order, and no more; a topic of fewer gives them all, a tf topic every transform."""
+    from tests.sources.ros2_helpers import Msg, Tf
+
+    store = typestore()
+    written: list[Msg | Other] = []
+    for i in range(6):
+        written.append(Other("/camera", 1_000 + 10 * i, _image(store, 100 + i, f"camera{i}", 100), IMAGE))
+        written.append(Msg("/tf", 1_001 + 10 * i, (Tf("map", "odom", i),)))
+    written.append(Other("/side", 2_000, _image(store, 200, "side", 100), IMAGE))
+    bag = write_rosbag2(tmp_path / "images", written, storage=storage)
+    recording = read_recording([bag], headers=(), header_limit=2)
+    camera, side = recording.stamped.streams
+    assert (camera.topic, camera.record_time.tolist(), list(camera.frame_ids)) == (
+        "/camera", [1_000, 1_010], ["camera0", "camera1"],
+    )  # fmt: skip
+    assert (side.topic, len(side), list(side.frame_ids)) == ("/side", 1, ["side"])
+    assert recording.transform_count == 6
+    every = read_recording([bag], headers=()).stamped.streams[0]
+    assert [every.frame_ids[f] for f in every.frame.tolist()] == [f"camera{i}" for i in range(6)]
+
+
 def test_a_ros1_bag_gives_each_images_header_reading_little_more(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

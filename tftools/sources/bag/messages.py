@@ -121,6 +121,8 @@ class MessageSet:
         #: messages' numbers; its rows are added and settled before anything else is decoded.
         self._under_way: tuple[Started, Int64Array] | None = None
         self._ahead: bool | None = None  # whether payloads are decoded ahead (``_started``), once asked
+        #: Per channel whose codec keeps a few headers (``HeaderCodec.limit``): its limit, and its messages kept.
+        self._limits: dict[int, list[int]] = {}
 
     def emptied(self) -> MessageSet:
         """A set without messages but with the same channels (numbered alike) and unpack."""
@@ -143,6 +145,8 @@ class MessageSet:
             if codec not in self._codecs:
                 self._codecs.append(codec)
             self._codec_of.append(self._codecs.index(codec))
+            if isinstance(codec, HeaderCodec) and codec.limit is not None:
+                self._limits[len(self.channels) - 1] = [codec.limit, 0]
             if isinstance(codec, CopyCodec):
                 codec.sink.channel(codec.recorded)
         return self._channel_ids[key]
@@ -195,6 +199,10 @@ class MessageSet:
             inside = self.window.holds(times)
             channels, times, where = channels[inside], times[inside], where[inside]
             starts, lengths = starts[inside], lengths[inside]
+        if self._limits:  # past a channel's limit, its messages are left out before they are copied
+            within = self._within_limits(channels)
+            channels, times, where = channels[within], times[within], where[within]
+            starts, lengths = starts[within], lengths[within]
         copied = np.array([isinstance(c, CopyCodec) for c in self._codecs], bool)[self._codec_of][channels]
         if copied.any():
             self._hand_on(channels[copied], times[copied], data, starts[copied], lengths[copied])
@@ -214,6 +222,16 @@ class MessageSet:
                 self._group(int(codecs[part[0]]), data, starts[part], lengths[part], ids[part])
         if self._pending_bytes >= _GROUP_BYTES:
             self._decode_groups()
+
+    def _within_limits(self, channels: Int32Array) -> BoolArray:
+        """Which of these messages (of ``channels``) are within their channel's limit, counting those kept before."""
+        kept = np.ones(len(channels), bool)
+        for channel, counts in self._limits.items():
+            mine = np.flatnonzero(channels == channel)
+            room = max(counts[0] - counts[1], 0)
+            kept[mine[room:]] = False
+            counts[1] += min(room, len(mine))
+        return kept
 
     def _hand_on(
         self, channels: Int32Array, times: Int64Array, data: bytes | memoryview, starts: Int64Array, lengths: Int64Array

@@ -41,7 +41,8 @@ class BagReader:
     then reads the transforms on ``topics`` (default ``/tf`` and ``/tf_static``), the recorded clock
     (a rosgraph_msgs/Clock topic, whatever ``topics`` are) and, with ``headers``, the headers of the
     sensor data on those topics (none named: of every topic whose messages start with a header), of the
-    whole recording or of one window of record time, as often as asked. With ``copy``, nothing is
+    whole recording or of one window of record time, as often as asked (``header_limit``: of each topic's first
+    messages at most, per publisher where the recording says it). With ``copy``, nothing is
     decoded: every message is handed to it as recorded, with its channel (``Recorded``), in the
     files' order (a copy of the recording).
 
@@ -59,11 +60,11 @@ class BagReader:
         headers: Sequence[str] | None = None,
         whole: Sequence[str] = (),
         copy: MessageSink | None = None,
+        header_limit: int | None = None,
     ) -> None:
         self.paths = [os.fspath(p) for p in paths]
-        self.wanted = Wanted(
-            tuple(topics) if topics else DEFAULT_TOPICS, None if headers is None else tuple(headers), tuple(whole), copy
-        )
+        headed = None if headers is None else tuple(headers)
+        self.wanted = Wanted(tuple(topics) if topics else DEFAULT_TOPICS, headed, tuple(whole), copy, header_limit)
         self._stack = ExitStack()
         self._files: list[_Opened] = []
 

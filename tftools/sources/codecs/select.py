@@ -70,9 +70,11 @@ class ClockCodec(Encoded):
 
 @value
 class HeaderCodec(Encoded):
-    """How the headers of messages of a type and encoding are decoded (the rest of each is not)."""
+    """How the headers of messages of a type and encoding are decoded (the rest of each is not); ``limit``: of
+    each channel, the first that many at most (``Wanted.header_limit``)."""
 
     decoder: str
+    limit: int | None = None
 
     @property
     def decode(self) -> HeaderDecoder:
@@ -92,6 +94,8 @@ class Wanted:
     headers: tuple[str, ...] | None = None
     whole: tuple[str, ...] = ()
     copy: MessageSink | None = None
+    #: With ``headers``, the headers read of each channel at most, in the order the file holds them (None: all).
+    header_limit: int | None = None
 
     def wants_header(self, topic: str) -> bool:
         if self.headers is None:
@@ -212,7 +216,8 @@ def select(
         and (wanted.headers or not placed_nowhere(type_name))
         and has_header(type_name, encoding, definition)
     ):
-        return HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers"), unread
+        headed = HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers", wanted.header_limit)
+        return headed, unread
     return None, unread
 
 
