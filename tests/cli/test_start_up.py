@@ -5,6 +5,7 @@ live stack or Graphviz, ``tfx frames -b`` loads no other subcommand nor live sta
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -115,3 +116,30 @@ def test_the_defaults_the_help_shows_are_the_analyses_own() -> None:
 
     assert defaults.thresholds() == asdict(Thresholds())
     assert defaults.tolerances() == asdict(Tolerances())
+
+
+def test_a_load_imports_no_frame_name_suggestions() -> None:
+    """``difflib`` is for an unknown frame's error: a load that asks for no frame does without it."""
+    modules = modules_after(f"import tftools; tftools.read_recording([{str(SAMPLE_BAGS['ros1'])!r}])")
+    assert "tftools.sources.recording" in modules
+    assert "difflib" not in modules
+
+
+def blas_timeout_after(code: str, **env: str) -> str | None:
+    """``OPENBLAS_THREAD_TIMEOUT`` once ``code`` has run in a fresh interpreter, ``env`` added and the variable
+    otherwise unset."""
+    environ = {k: v for k, v in os.environ.items() if k != "OPENBLAS_THREAD_TIMEOUT"} | env
+    script = f"{code}\nimport json, os\nprint(json.dumps(os.environ.get('OPENBLAS_THREAD_TIMEOUT')))"
+    done = subprocess.run(
+        [sys.executable, "-c", script], cwd=REPO, capture_output=True, text=True, check=True, env=environ
+    )
+    found: str | None = json.loads(done.stdout.strip().splitlines()[-1])
+    return found
+
+
+def test_numpys_blas_threads_sleep_when_idle_unless_the_user_said() -> None:
+    """Set before numpy's import (OpenBLAS reads it when loaded), so that its threads do not spin on the core the
+    read's threads want; a user's own value kept, and nothing set once numpy is imported (too late to matter)."""
+    assert blas_timeout_after("import tftools") == "4"
+    assert blas_timeout_after("import tftools", OPENBLAS_THREAD_TIMEOUT="20") == "20"
+    assert blas_timeout_after("import numpy, tftools") is None
