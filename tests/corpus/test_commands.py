@@ -103,6 +103,22 @@ WITHOUT_TF = [r for r in RECORDINGS if "no_tf" in r.meta["expected"]["errors"]]
 REPORTED = WITH_TF + [r for r in WITHOUT_TF if r not in WITH_TF]
 
 
+@pytest.mark.parametrize("recording", WITHOUT_TF, ids=[r.id for r in WITHOUT_TF])
+def test_sensor_data_without_tf_has_no_target_frame(recording: Recording, corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A recording that holds no transform (its bytes: no tf edge) has no tree, so no frame to check its sensor
+    data in: wtf's JSON said ``sensor_data.target: ""`` "the root of the largest tree" (the AUV's /ping1d/range,
+    the Crazyflie's Vicon pose), a frame a script would take for one. It is null, with why, in -f json and
+    -f jsonl alike (the line --resume reads back)."""
+    path = corpus(recording)
+    assert not data.read_contents(path).edges
+    whole = json.loads(tfx("wtf", "-b", path, "-f", "json").stdout)["bags"][0]
+    lines = [json.loads(x) for x in tfx("wtf", "-b", path, "-f", "jsonl").stdout.splitlines()]
+    (line,) = [x for x in lines if x["type"] == "recording"]
+    for said in (whole["sensor_data"], line["sensor_data"]):
+        if said is not None:  # no topic with a header tied to tf: no sensor data said
+            assert said["target"] is None and said["target_reason"] == "no transforms, so no tree to transform it into"
+
+
 @pytest.mark.parametrize("recording", REPORTED, ids=[r.id for r in REPORTED])
 def test_the_report_names_the_tf_topics_recorded(
     recording: Recording,

@@ -172,7 +172,7 @@ def _advice(s: StreamReport) -> str:
 
 def as_dict(report: FilterReport) -> dict[str, Any]:
     return {
-        "target": report.target,
+        "target": report.target or None,  # no tree, no frame (its reason: targets.NO_TREE)
         "target_reason": report.target_reason,
         "cache_s": seconds(report.cache_time),
         "topics": [_stream_dict(s) for s in report.streams],
