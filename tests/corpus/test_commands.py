@@ -239,6 +239,34 @@ def test_a_copy_tells_its_publishers_apart_as_the_recording(
         assert {f["code"] for f in json.loads(said.stdout)["bags"][0]["findings"]} == was, said.stdout
 
 
+def test_the_repaired_create3_s_publishers_are_said_to_repeat_what_they_repeated(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The real Create 3's repair re-sends the merged static transforms every 5 s: read with rosbags, its
+    /tf_static holds one message of 23 transforms (the second description's) and then messages of 35, which
+    wtf tells to be the same publisher's; static_conflict said that publisher came "(the same 10 times)". It
+    says how many more it sent and what they held; the recording itself sends each message once."""
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    source, repaired = corpus(BY_ID["ros2-create3-real-two-urdfs-2022-db3"]), tmp_path / "repaired"
+    assert tfx("static", "--repair", "-b", source, "-o", repaired).code == 0
+    with AnyReader([repaired], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
+        statics = [c for c in reader.connections if c.topic == "/tf_static"]
+        sizes = [len(reader.deserialize(raw, c.msgtype).transforms) for c, _, raw in reader.messages(statics)]
+    resent = sizes.count(35)
+    assert sizes.count(23) == 1 and resent >= 2
+    for bag, said in (
+        (repaired, f"(+5.3 s) ({resent} more messages with up to 35 transforms), which"),
+        (source, "(+5.3 s), which"),
+    ):
+        found = json.loads(tfx("wtf", "-b", bag, "-f", "json").stdout)["bags"][0]["findings"]
+        (conflict,) = [f for f in found if f["code"] == "static_conflict"]
+        assert f"publisher 2: 23 transforms at 1663967376.153 {said}" in conflict["message"], conflict["message"]
+
+
 def test_filter_says_wtf_s_words_of_data_in_map(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """CyberShip Voyager's MCAP: mocap4r2's /markers and /voyager/rigid_bodies in 'map', the ship under 'world', no
     odom. wtf's sensor_frame hint says 'map' is not localization's here; `tfx filter` said "publish its frame's
