@@ -509,7 +509,8 @@ def framed_topics(path: Path) -> set[str]:
             and fields[c.msgtype][1][0][0] == "header"
         ]
         for connection, _, raw in reader.messages(connections=stamped) if stamped else ():  # [] would be all
-            if connection.topic not in found and reader.deserialize(raw, connection.msgtype).header.frame_id:
+            message: Any = reader.deserialize(raw, connection.msgtype)
+            if connection.topic not in found and message.header.frame_id:
                 found.add(connection.topic)
     return found
 

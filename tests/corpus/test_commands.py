@@ -9,6 +9,7 @@ import json
 import re
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 import pytest
@@ -255,7 +256,9 @@ def test_the_repaired_create3_s_publishers_are_said_to_repeat_what_they_repeated
     assert tfx("static", "--repair", "-b", source, "-o", repaired).code == 0
     with AnyReader([repaired], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
         statics = [c for c in reader.connections if c.topic == "/tf_static"]
-        sizes = [len(reader.deserialize(raw, c.msgtype).transforms) for c, _, raw in reader.messages(statics)]
+        sizes = [
+            len(cast(Any, reader.deserialize(raw, c.msgtype)).transforms) for c, _, raw in reader.messages(statics)
+        ]
     resent = sizes.count(35)
     assert sizes.count(23) == 1 and resent >= 2
     for bag, said in (

@@ -664,7 +664,8 @@ def test_an_instant_s_wait_for_the_transform_of_its_own_stamp_is_said_as_one(cor
     from rosbags.typesys import Stores, get_typestore
 
     path = corpus(BY_ID[POTTED_PLANT])
-    poses, sent = [], {}
+    poses: list[tuple[int, int]] = []
+    sent: dict[int, int] = {}
     with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
         chosen = [c for c in reader.connections if c.topic in ("/agv_pose", "/tf")]
         for connection, record, raw in reader.messages(chosen):
