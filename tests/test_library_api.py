@@ -376,6 +376,35 @@ class _Scans:
         pass
 
 
+class _NoSensors(_Robot):
+    """The robot's tf, and no topic with a header heard."""
+
+    def header_listener(self, store: HeaderStore) -> HeaderListener:
+        return _Silent()
+
+
+class _Silent:
+    def start(self) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+def test_filter_of_a_robot_heard_without_sensor_data_says_to_name_a_topic_or_listen_longer() -> None:
+    """Live as on a recording of tf alone (left40): no sensor data to check is a report that says so, not an
+    error; what to do is a live system's (name a topic, listen longer), not a recording's (record it)."""
+    from tftools.render.filter import unchecked_in_words
+    from tftools.sources.live.sensor_headers import capture_live
+
+    query = tftools.FilterQuery()
+    report = tftools.filter_messages(capture_live(_NoSensors(), 0.1, query.reading().headers), query)
+    assert not report.streams and report.unchecked is not None and report.unchecked.live and not report.lost
+    said = unchecked_in_words(report.unchecked)
+    assert said.startswith("No sensor data to check: ") and "listen longer (--duration)" in said, said
+    assert "record" not in said
+
+
 def test_check_of_a_fake_robot_heard_live() -> None:
     from tftools import capture_live
 

@@ -68,7 +68,9 @@ def unchecked_in_words(unchecked: Unchecked) -> str:
     more = len(topics) - _TOPICS_NAMED
     seen = ", ".join(topics[:_TOPICS_NAMED]) + (f" and {more} more" if more > 0 else "")
     todo = unchecked.hint or (
-        "record its topics beside /tf and /tf_static, or name a topic to check (e.g. tfx filter /scan -b BAG)"
+        "name a topic to check (e.g. tfx filter /scan), or listen longer (--duration)"
+        if unchecked.live
+        else "record its topics beside /tf and /tf_static, or name a topic to check (e.g. tfx filter /scan -b BAG)"
     )
     return printable(f"No sensor data to check: {why}. Topics: {seen or 'none'}. If you expected sensor data: {todo}.")
 

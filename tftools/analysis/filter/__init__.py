@@ -85,7 +85,8 @@ def _unchecked(
         raise nothing
     target, reason = choose_target(tree_of(recording.buffer), query.target)
     topics = dict(sorted({t: kind for f in recording.contents.files for t, kind in f.topics.items()}.items()))
-    unchecked = Unchecked(nothing.problems, topics, nothing.hint if nothing.unrecorded else "")
+    hint = nothing.hint if nothing.unrecorded else ""
+    unchecked = Unchecked(nothing.problems, topics, hint, recording.contents.live)
     return replace(report, target=target, target_reason=reason, unchecked=unchecked)
 
 

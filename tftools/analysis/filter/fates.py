@@ -606,6 +606,7 @@ class Unchecked:
     reasons: list[str]
     topics: dict[str, str]
     hint: str = ""  # what to do where the topics read hold no message (``NoStampedDataError.hint``); "": none said
+    live: bool = False  # heard from a live system, not read from a recording
 
 
 @dataclass(frozen=True)
