@@ -221,10 +221,14 @@ def test_filter_with_a_target_a_timeout_and_a_queue() -> None:
 def test_filter_finds_no_sensor_data_in_the_sample() -> None:
     from tftools.analysis import NoStampedDataError
 
-    with pytest.raises(NoStampedDataError, match="no topic with a Header to check") as raised:
-        tftools.filter_messages(tftools.read_recording([BAGS[0]], headers=()), tftools.FilterQuery())
-    assert raised.value.problems == [] and "--" not in str(raised.value)
-    assert "no topic with a Header" in tfx("filter", "-b", BAGS[0]).stderr
+    report = tftools.filter_messages(tftools.read_recording([BAGS[0]], headers=()), tftools.FilterQuery())
+    assert not report.streams and report.unchecked is not None and report.unchecked.reasons == []
+    assert set(report.unchecked.topics) == {"/tf", "/tf_static"} and not report.lost
+    done = tfx("filter", "-b", BAGS[0])
+    assert done.returncode == 0 and "No sensor data to check" in done.stdout
+    with pytest.raises(NoStampedDataError, match="no topic with a Header to check: /scan: not in the recording"):
+        query = tftools.FilterQuery(sensor_topics=("/scan",))
+        tftools.filter_messages(tftools.read_recording([BAGS[0]], headers=("/scan",)), query)
     assert "frame 'odm' does not exist (frames: odom" in tfx("filter", "-b", BAGS[0], "--target", "odm").stderr
 
 
@@ -320,7 +324,7 @@ def _readme_api() -> Iterator[str]:
 def test_the_readmes_api_examples_run(code: str, capsys: pytest.CaptureFixture[str], monkeypatch: Any) -> None:
     monkeypatch.chdir(REPO)
     exec(compile(code, "README.md", "exec"), {})
-    assert capsys.readouterr().out.split() == ["18", "28", "17", "False", "None", "0"]
+    assert capsys.readouterr().out.split() == ["18", "28", "17", "False", "0", "0"]
 
 
 class _Robot(LiveSource):
@@ -370,6 +374,35 @@ class _Scans:
 
     def close(self) -> None:
         pass
+
+
+class _NoSensors(_Robot):
+    """The robot's tf, and no topic with a header heard."""
+
+    def header_listener(self, store: HeaderStore) -> HeaderListener:
+        return _Silent()
+
+
+class _Silent:
+    def start(self) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+def test_filter_of_a_robot_heard_without_sensor_data_says_to_name_a_topic_or_listen_longer() -> None:
+    """Live as on a recording of tf alone (left40): no sensor data to check is a report that says so, not an
+    error; what to do is a live system's (name a topic, listen longer), not a recording's (record it)."""
+    from tftools.render.filter import unchecked_in_words
+    from tftools.sources.live.sensor_headers import capture_live
+
+    query = tftools.FilterQuery()
+    report = tftools.filter_messages(capture_live(_NoSensors(), 0.1, query.reading().headers), query)
+    assert not report.streams and report.unchecked is not None and report.unchecked.live and not report.lost
+    said = unchecked_in_words(report.unchecked)
+    assert said.startswith("No sensor data to check: ") and "listen longer (--duration)" in said, said
+    assert "record" not in said
 
 
 def test_check_of_a_fake_robot_heard_live() -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import json
 
@@ -85,6 +86,25 @@ def test_sensor_wait_says_under_1_ms_and_asks_for_a_timeout_of_a_millisecond_not
     (wait,) = [f for f in findings_of(scene) if f.code == "sensor_wait"]
     assert "waiting under 1 ms (99.9% under 1 ms)" in wait.message, wait.message
     assert "a timeout of at least 0.001 s" in wait.hint and "0.000" not in wait.message + wait.hint
+
+
+def test_an_instant_s_wait_for_the_transform_of_its_own_stamp_says_who_it_matters_to() -> None:
+    """sweep39: the potted-plant AGV's /agv_pose waits under 1 ms for map -> odom of its own stamp, recorded just
+    after it: a MessageFilter still queues it (not transformable on arrival) and passes it that instant, so the
+    note is kept, saying that only a lookup as it arrives fails and what to do there: send the transform first.
+    A wait of a millisecond or more, or for a transform stamped later, is not one instant's."""
+    _, scene = _report()
+    (wait,) = [f for f in findings_of(scene) if f.code == "sensor_wait"]
+    assert wait.severity.value == "info"
+    assert "Each waits only for the transform of its own stamp, which comes just after it (sent together, the " in (
+        wait.message
+    )
+    assert "only a node that looks the transform up as the message arrives, without waiting, fails" in wait.message
+    assert wait.hint.endswith("or send the transform before the message (where one node publishes both)")
+    tf, stream = _epuck()
+    later = dataclasses.replace(stream, record_time=stream.record_time - 2 * MS + EARLY)  # 2 ms before
+    (slower,) = [f for f in findings_of(Scene(recording(tf, ros1=False), streams=[later])) if f.code == "sensor_wait"]
+    assert "sent together" not in slower.message and slower.hint.endswith("make the late transform come sooner")
 
 
 def test_wait_words_and_timeouts() -> None:

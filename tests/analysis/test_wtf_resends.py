@@ -365,3 +365,22 @@ def test_ros2s_tf2_refuses_samples_older_than_its_cache_before_it_compares_stamp
     findings = check(recording(messages, topics=("/tf", "/tf_static", "/ekf/tf"), ros1=False)).findings
     again = [f for f in findings if f.code == "time_backwards" and "came again with other values" in f.message]
     assert bool(again) is not ahead, [f.message for f in findings]
+
+
+@pytest.mark.parametrize("grows", [False, True], ids=["the same", "grown"])
+def test_a_static_publisher_told_apart_is_said_to_repeat_what_it_repeated(grows: bool) -> None:
+    """A copy ``tfx static --repair`` wrote of the real Create 3 (two descriptions on /tf_static, no publisher
+    named): its second publisher's first message held 23 transforms, its 9 re-sends the merged 35, and
+    static_conflict said "(the same 10 times)". Its words now say what the later messages held; a publisher
+    that re-sends its first message is still "the same N times"."""
+    frames = ["a", "b", "c"]
+    driver = [_t("base_link", f, START, 0.3) for f in frames[:2]]
+    later = [*driver, _t("base_link", "c", START, 0.1)] if grows else driver
+    messages = periodic("/tf", 20, lambda stamp: [_t("odom", "base_link", stamp, 0.01 * (stamp - START) / NS_PER_S)])
+    messages.append(TfMessage("/tf_static", START + 10 * MS, [_t("base_link", f, START, 0.1) for f in frames]))
+    messages.append(TfMessage("/tf_static", START + 500 * MS, driver))
+    messages += [TfMessage("/tf_static", START + k * 2 * NS_PER_S, later) for k in (1, 2, 3)]
+    findings = check(recording(sorted(messages, key=lambda m: m.record_time), ros1=False)).findings
+    (conflict,) = [f for f in findings if f.code == "static_conflict"]
+    said = "(3 more messages with up to 3 transforms)" if grows else "(the same 4 times)"
+    assert f"publisher 2: 2 transforms at 1700000000.500 (+0.5 s) {said}" in conflict.message, conflict.message

@@ -145,6 +145,27 @@ def test_what_keeps_messages_no_timeout_keeps_is_said(tfx: Tfx, bags: dict[str, 
     assert "no timeout can (publish its frame's transform, or fix the frame_id)" in " ".join(result.stdout.split())
 
 
+def test_a_recording_of_tf_alone_is_no_sensor_data_to_check_not_an_error(tfx: Tfx, bags: dict[str, Path]) -> None:
+    """``tfx filter`` on each of a CI's recordings, one of tf alone (a calibration's /tf_static, a tf test bag)
+    and one with sensors: the tf one exited 2, "no topic with a Header", as if the command line were wrong. It
+    says there is no sensor data to check, the topics there are and what to do if some was expected, and exits
+    0; a topic named that is not there stays a usage error (corpus: the Grand Tour's calibration bag)."""
+    tf_only = bags["ros1"].parent / "tf.bag"  # sensor_bags' tf, before the sensors were added
+    codes = [tfx("filter", "-b", bag).code for bag in (tf_only, bags["ros1"])]
+    assert codes == [0, 1]  # the sensors' camera is lost for good
+    said = tfx("filter", "-b", tf_only)
+    text = " ".join(said.stdout.split())
+    assert "No sensor data to check: no topic's messages start with a Header" in text, text
+    assert "Topics: /tf (tf2_msgs/TFMessage), /tf_static (tf2_msgs/TFMessage)." in text, text
+    assert "If you expected sensor data: record its topics beside /tf and /tf_static" in text and not said.stderr
+    report = json.loads(tfx("filter", "-b", tf_only, "-f", "json").stdout)
+    assert report["topics"] == [] and report["target"] == "odom"
+    assert report["unchecked"]["reasons"] == [] and list(report["unchecked"]["topics"]) == ["/tf", "/tf_static"]
+    assert json.loads(tfx("filter", "-b", bags["ros1"], "-f", "json").stdout)["unchecked"] is None
+    named = tfx("filter", "/scan", "-b", tf_only)
+    assert named.code == 2 and "/scan: not in the recording" in named.stderr and not named.stdout
+
+
 def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> None:
     nothing = tfx("filter", "/nothing", "-b", bags["ros1"])
     assert nothing.code == 2 and "no topic with a Header" in nothing.stderr
@@ -347,7 +368,7 @@ def test_a_recording_whose_only_header_is_a_gamepad_s_says_so(tfx: Tfx, tmp_path
     """A gamepad's sensor_msgs/Joy (joy_node stamps it in 'joy'; the KTH arm's /joy, corpus
     ros2_mcap_kth_robp_arm_joy_no_tf_2025) is no sensor data: where it is the only topic with a header, filter said
     "no topic with a Header to check" alone. It says what the recording holds, and that the topic is checked when
-    named."""
+    named (and, as of a recording of tf alone, that there is nothing to check is no error)."""
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import Stores, get_typestore
 
@@ -369,8 +390,8 @@ def test_a_recording_whose_only_header_is_a_gamepad_s_says_so(tfx: Tfx, tmp_path
             )
             writer.write(joy, stamp + 2 * MS, store.serialize_cdr(pad, "sensor_msgs/msg/Joy"))
     said = tfx("filter", "-b", bag)
-    text = " ".join(said.stderr.split())
-    assert said.code == 2 and "no topic with a Header to check: /joy is sensor_msgs/msg/Joy, a gamepad's" in text, text
+    text = " ".join(said.stdout.split())
+    assert said.code == 0 and "No sensor data to check: /joy is sensor_msgs/msg/Joy, a gamepad's" in text, text
     assert "its frame_id places nothing in space, so nothing ties it to tf" in text
     named = tfx("filter", "/joy", "-b", bag)  # asked for: checked, its frame unknown to tf
     assert named.code == 1 and "/joy" in named.stdout and "unknown frame" in named.stdout

@@ -30,7 +30,7 @@ CASES = {
     "monitor-chain-json": ("monitor", "map", "gripper", "-b", "BAG", "-f", "json", "--start", "+2"),
     "monitor-play": ("monitor", "-b", "BAG", "--play", "--start", "-1", "--rate", "4", "--duration", "0.3"),
     "wtf": ("wtf", "BAG"),
-    "filter-bad": ("filter", "-b", "BAG"),  # the sample robot has no sensor data: nothing to check
+    "filter-nothing-to-check": ("filter", "-b", "BAG"),  # the sample robot has no sensor data: said, exit 0
     "filter-tf-json-bad": ("filter", "/tf", "-b", "BAG", "--queue", "2", "-f", "json"),
     "wtf-b-json": ("wtf", "-b", "BAG", "-f", "json", "--strict"),
     "wtf-junit": ("wtf", "BAG", "-f", "junit", "--jobs", "2", "BAG"),

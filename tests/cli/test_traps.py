@@ -56,6 +56,16 @@ def test_a_bag_without_b_is_shown_with_it(tfx: Tfx, args: list[str]) -> None:
     assert f"a bag is read with -b: tfx {fixed}" in result.stderr
 
 
+def test_bags_without_b_are_shown_each_on_its_own_too(tfx: Tfx) -> None:
+    """``tfx filter logs/*.bag`` (as ``tfx wtf`` takes a fleet): the fix shown was every bag after -b, which reads
+    them as the parts of one split recording; it says so, and shows each checked on its own."""
+    first, second = str(SAMPLE_BAGS["ros1"]), str(SAMPLE_BAGS["mcap"])
+    result = tfx("filter", first, second)
+    assert result.code == 2 and result.stderr.count("\n") == 1
+    assert f"tfx filter -b {first} -b {second} (the parts of one recording)" in result.stderr
+    assert f'each on its own: for b in {first} {second}; do tfx filter -b "$b"; done' in result.stderr
+
+
 def test_an_extra_argument_that_is_no_bag_points_to_help(tfx: Tfx) -> None:
     result = tfx("frames", "nothing_here")
     assert result.code == 2 and "see tfx frames --help" in result.stderr and "-b" not in result.stderr

@@ -484,3 +484,54 @@ def covered_sample_times(contents: Contents, target: str, source: str, limit: in
     times = sorted({t for s in dynamic for t in s.stamps if low <= t <= high})
     step = max(1, len(times) // limit)
     return times[::step][:limit]
+
+
+#: Types whose header's frame_id places nothing in space (a gamepad's joy_node stamps 'joy'; joint positions
+#: name no frame): no MessageFilter's data, whatever their frame_id.
+PLACING_NOTHING = ("sensor_msgs/msg/Joy", "sensor_msgs/msg/JointState")
+
+
+def framed_topics(path: Path) -> set[str]:
+    """The topics with a message whose header (its first field, a std_msgs/Header) names a frame: the sensor
+    data a tf2 MessageFilter could be given, read with rosbags (every message of a topic until one names a
+    frame). A ROS 2 bag's types are those rosbags knows (Humble's): a type it does not know is not read."""
+    if path.suffix == ".mcap" and _plain_mcap(path):
+        return _framed_in_plain_mcap(path)
+    found: set[str] = set()
+    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
+        fields = reader.typestore.fielddefs
+        stamped = [
+            c
+            for c in reader.connections
+            if c.msgtype in fields
+            and c.msgtype not in PLACING_NOTHING
+            and fields[c.msgtype][1][:1]
+            and fields[c.msgtype][1][0][0] == "header"
+        ]
+        for connection, _, raw in reader.messages(connections=stamped) if stamped else ():  # [] would be all
+            message: Any = reader.deserialize(raw, connection.msgtype)
+            if connection.topic not in found and message.header.frame_id:
+                found.add(connection.topic)
+    return found
+
+
+def _framed_in_plain_mcap(path: Path) -> set[str]:
+    """``framed_topics`` of an MCAP rosbags does not read: JSON messages, or CDR of a type Humble has."""
+    store, found = get_typestore(Stores.ROS2_HUMBLE), set()
+    with path.open("rb") as f:
+        for schema, channel, message in make_reader(f).iter_messages():
+            name = schema.name if schema is not None else ""
+            if channel.topic in found or name in PLACING_NOTHING or channel.topic in TF_TOPICS:
+                continue
+            if channel.message_encoding == "json":
+                header = json.loads(message.data).get("header")
+                frame = header.get("frame_id") if isinstance(header, dict) else None
+            elif (
+                name in store.fielddefs and store.fielddefs[name][1][:1] and store.fielddefs[name][1][0][0] == "header"
+            ):
+                frame = cast(Any, store.deserialize_cdr(message.data, name)).header.frame_id
+            else:
+                frame = None
+            if frame:
+                found.add(channel.topic)
+    return found

@@ -649,3 +649,36 @@ def test_a_robot_clock_behind_the_recorder_s_is_told_as_a_clock(corpus: Corpus, 
     for finding in late:
         assert "most likely the publisher's clock runs behind the recorder's" in finding["hint"], finding["hint"]
     assert result.code == 0
+
+
+POTTED_PLANT = "ros2-potted-plant-agv-real-fastlio-icp-ekf-2026-db3"
+
+
+def test_an_instant_s_wait_for_the_transform_of_its_own_stamp_is_said_as_one(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The potted-plant AGV's /agv_pose (in map) and map -> odom of the same stamp: read with rosbags, every pose
+    is recorded 3 us to 1.8 ms before that transform. sensor_wait said "waiting under 1 ms" and "make the late
+    transform come sooner", which no one can: the two are sent together, the pose first. A MessageFilter still
+    queues each pose (not transformable when it arrives) and passes it that instant, so the note stays, saying
+    that only a lookup as the pose arrives fails, and that sending the transform first is the remedy."""
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    path = corpus(BY_ID[POTTED_PLANT])
+    poses: list[tuple[int, int]] = []
+    sent: dict[int, int] = {}
+    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
+        chosen = [c for c in reader.connections if c.topic in ("/agv_pose", "/tf")]
+        for connection, record, raw in reader.messages(chosen):
+            message: Any = reader.deserialize(raw, connection.msgtype)
+            if connection.topic == "/agv_pose":
+                poses.append((record, message.header.stamp.sec * 10**9 + message.header.stamp.nanosec))
+            for t in getattr(message, "transforms", ()):
+                if (t.header.frame_id, t.child_frame_id) == ("map", "odom"):
+                    sent.setdefault(t.header.stamp.sec * 10**9 + t.header.stamp.nanosec, record)
+    gaps = [sent[stamp] - record for record, stamp in poses]
+    assert len(gaps) == 1146 and min(gaps) > 0 and max(gaps) < 2_000_000
+    found = json.loads(tfx("wtf", "-b", path, "-f", "json").stdout)["bags"][0]["findings"]
+    (wait,) = [f for f in found if f["code"] == "sensor_wait"]
+    assert wait["severity"] == "info" and wait["message"].startswith("/agv_pose: 1146 of 1146 messages")
+    assert "for map -> odom" in wait["message"] and "(sent together, the message first)" in wait["message"]
+    assert wait["hint"].endswith("or send the transform before the message (where one node publishes both)")

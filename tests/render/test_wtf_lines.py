@@ -74,3 +74,15 @@ def test_a_later_line_for_a_recording_replaces_an_earlier_one() -> None:
 def test_what_is_not_a_report_is_refused_in_one_line(data: bytes, says: str) -> None:
     with pytest.raises(wtf_lines.ReportError, match=says):
         read(data)
+
+
+def test_sensor_data_of_a_recording_without_tf_reads_back_without_a_target() -> None:
+    """No tree, no frame to check sensor data in: written as null (not "", which a script takes for a frame),
+    read back as the same report."""
+    from tftools.analysis.targets import NO_TREE
+
+    auv = BagReport(("auv.db3",), [], None, ("rosbag2-sqlite3",), START, START + NS_PER_S, 0, 0)
+    auv.sensor_topics, auv.sensor_target, auv.sensor_target_reason = ("/ping1d/range",), "", NO_TREE
+    line = written([auv], summary=False)
+    assert b'"target":null' in line
+    assert [bag_dict(b, False) for b in read(line).reports] == [bag_dict(auv, False)]

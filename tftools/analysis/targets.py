@@ -9,15 +9,22 @@ from tftools.analysis.frames import FrameTree
 from tftools.core.frames import frame_name
 from tftools.sources.contents import StampedMessages
 
+#: Why sensor data has no target frame: the recording holds no transform, so no tree (the AUV's and the
+#: Crazyflie's recordings); its target is "" (said as null in JSON: no frame).
+NO_TREE = "no transforms, so no tree to transform it into"
+
 
 def default_target(tree: FrameTree) -> tuple[str, str]:
     """The frame sensor data is usually transformed into: ``odom`` or ``map`` where REP 105's frames
-    exist (odom, where both do: what a costmap or a scan matcher asks for), else the tree's root."""
+    exist (odom, where both do: what a costmap or a scan matcher asks for), else the largest tree's root;
+    "" where there is no tree (``NO_TREE``)."""
     for frame in ("odom", "map"):
         if frame in tree.frames:
             return frame, f"REP 105's {frame} frame"
     trees = tree.trees()
-    return max(sorted(trees), key=lambda root: len(trees[root]), default=""), "the root of the largest tree"
+    if not trees:
+        return "", NO_TREE
+    return max(sorted(trees), key=lambda root: len(trees[root])), "the root of the largest tree"
 
 
 def tied_to_tf(stream: StampedMessages) -> bool:

@@ -196,4 +196,10 @@ def _with_b(words: list[str], bags: set[str]) -> str:
     if not bags:
         return ""
     fixed = [part for w in words for part in (["-b", w] if w in bags else [w])]
-    return "a bag is read with -b: tfx " + " ".join(shlex.quote(w) for w in fixed)
+    said = "a bag is read with -b: tfx " + " ".join(shlex.quote(w) for w in fixed)
+    if len(bags) == 1:
+        return said
+    # logs/*.bag in CI: repeated -b joins the parts of one split recording, not recordings of their own
+    alone = " ".join(shlex.quote(w) for w in words if w not in bags)
+    named = " ".join(shlex.quote(w) for w in words if w in bags)
+    return f'{said} (the parts of one recording); each on its own: for b in {named}; do tfx {alone} -b "$b"; done'

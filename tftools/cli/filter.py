@@ -51,8 +51,9 @@ def command(
     every advertised topic whose messages start with a Header), each message's arrival time
     and header; then reports as on a bag.
 
-    Exit codes: 0 every message transformable (at once or after a wait); 1 some never were, or a
-    given --wait/--queue drops some; 2 unusable input.
+    Exit codes: 0 every message transformable (at once or after a wait), or no sensor data to check
+    (a recording of tf alone: said so, with the topics there are); 1 some never were, or a given
+    --wait/--queue drops some; 2 unusable input, or a topic named that holds no stamped message.
 
     Examples: [cyan]tfx filter -b robot.bag --target odom[/], [cyan]tfx filter /scan -b run.mcap --queue 5 -f json[/],
     [cyan]tfx filter /scan --ros1 -d 10 --target odom[/] (live)

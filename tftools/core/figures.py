@@ -522,6 +522,13 @@ def _against(
     return stamps[inside][found], values[inside][found], theirs
 
 
+#: A wait (ns) shorter than this is an instant: the message and the transform it waits for were sent together,
+#: the message first (the potted-plant AGV's /agv_pose, 3 us to 1.8 ms before map -> odom of its stamp).
+#: tf2_ros's MessageFilter still queues such a message (it is not transformable when it arrives) and passes it
+#: on the transform; a lookup as it arrives fails: the one user to act is one that does not wait.
+INSTANT = NS_PER_S // 1000
+
+
 def under_tick(wait_ns: float, tick: int) -> bool:
     """Whether a wait read off a clock stepping every ``tick`` ns (0: a fine one) is shorter than one step."""
     return tick > 0 and wait_ns < tick

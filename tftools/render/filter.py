@@ -9,7 +9,7 @@ from rich.console import Group, RenderableType
 from rich.table import Table
 from rich.text import Text
 
-from tftools.analysis.filter.fates import FilterReport, StreamReport
+from tftools.analysis.filter.fates import FilterReport, StreamReport, Unchecked
 from tftools.analysis.targets import is_odometry, odometry_tf_unpublished
 from tftools.core.figures import KEEP, seconds, wait_in_words
 from tftools.core.time import NS_PER_S, duration
@@ -21,6 +21,8 @@ from tftools.render.fitted import Fitted, Paragraphs
 def renderable(report: FilterReport, header: str = "") -> RenderableType:
     """Per stream: messages, on arrival, later (and how long they waited), never (and why), the edge
     they waited for, and the filter settings that would keep ``KEEP`` of them."""
+    if report.unchecked is not None:
+        return Group(*([Text(header, style="dim")] if header else []), Text(unchecked_in_words(report.unchecked)))
     cache = f"{seconds(report.cache_time):g} s cache"
     title = f"MessageFilter into {printable(report.target)} ({report.target_reason}), {cache}"
     table = Table(title=Text(title, style="bold"), title_justify="left", show_lines=False)
@@ -52,6 +54,25 @@ def renderable(report: FilterReport, header: str = "") -> RenderableType:
         skipped = printable(", ".join(report.skipped))
         parts.append(Text(f"with a header but no frame_id (not tied to tf): {skipped}", style="dim"))
     return Group(*parts)
+
+
+#: At most this many of a recording's topics are named where none holds sensor data to check.
+_TOPICS_NAMED = 12
+
+
+def unchecked_in_words(unchecked: Unchecked) -> str:
+    """Why no topic was checked, the topics there are, and what to do if sensor data was expected: a note,
+    not a fault (a recording of tf alone is a recording of tf)."""
+    why = "; ".join(unchecked.reasons) or "no topic's messages start with a Header"
+    topics = [f"{t} ({kind})" for t, kind in unchecked.topics.items()]
+    more = len(topics) - _TOPICS_NAMED
+    seen = ", ".join(topics[:_TOPICS_NAMED]) + (f" and {more} more" if more > 0 else "")
+    todo = unchecked.hint or (
+        "name a topic to check (e.g. tfx filter /scan), or listen longer (--duration)"
+        if unchecked.live
+        else "record its topics beside /tf and /tf_static, or name a topic to check (e.g. tfx filter /scan -b BAG)"
+    )
+    return printable(f"No sensor data to check: {why}. Topics: {seen or 'none'}. If you expected sensor data: {todo}.")
 
 
 def _paragraph(s: StreamReport) -> list[Text]:
@@ -153,11 +174,18 @@ def _advice(s: StreamReport) -> str:
 
 def as_dict(report: FilterReport) -> dict[str, Any]:
     return {
-        "target": report.target,
+        "target": report.target or None,  # no tree, no frame (its reason: targets.NO_TREE)
         "target_reason": report.target_reason,
         "cache_s": seconds(report.cache_time),
         "topics": [_stream_dict(s) for s in report.streams],
         "skipped": report.skipped,
+        "unchecked": None
+        if report.unchecked is None
+        else {
+            "reasons": report.unchecked.reasons,
+            "topics": report.unchecked.topics,
+            "note": unchecked_in_words(report.unchecked),
+        },
     }
 
 

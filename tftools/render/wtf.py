@@ -198,7 +198,7 @@ def bag_dict(bag: BagReport, strict: bool) -> dict[str, Any]:
         "fetched": [asdict(f) for f in bag.fetched] or None,
         "sensor_data": {
             "topics": list(bag.sensor_topics),
-            "target": bag.sensor_target,
+            "target": bag.sensor_target or None,  # no tree, no frame (its reason: targets.NO_TREE)
             "target_reason": bag.sensor_target_reason,
         }
         if bag.sensor_topics

@@ -116,7 +116,7 @@ def _sensor_data(entry: dict[str, Any] | None) -> dict[str, Any]:
         return {}
     return {
         "sensor_topics": tuple(_strings(entry["topics"])),
-        "sensor_target": str(entry["target"]),
+        "sensor_target": str(entry["target"] or ""),  # null: no tree
         "sensor_target_reason": str(entry["target_reason"]),
     }
 

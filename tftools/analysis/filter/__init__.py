@@ -4,10 +4,17 @@ recording (``filter_messages(recording, query)``; each message's fate: ``fates``
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
-from tftools.analysis.filter.fates import FilterReport, TfBegan, message_fates, recording_end, stream_report
+from tftools.analysis.filter.fates import (
+    FilterReport,
+    TfBegan,
+    Unchecked,
+    message_fates,
+    recording_end,
+    stream_report,
+)
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.analysis.reading import Reading
 from tftools.analysis.targets import choose_target, tied_to_tf
@@ -46,11 +53,13 @@ def filter_messages(
 ) -> FilterReport:
     """``tfx filter``: a MessageFilter replayed on the sensor data ``recording`` was read or heard with
     (``query.reading()``) against its tf; what could not be read of the topics asked for goes to
-    ``on_problem``. Raises ``NoStampedDataError`` when no topic has a header with a frame_id (a recording of
-    /rosout alone: an empty table said nothing)."""
+    ``on_problem``. Where no topic has a header with a frame_id (a recording of /rosout alone: an empty table
+    said nothing), a report of none that says why (``FilterReport.unchecked``: a recording of tf alone is no
+    fault), or, where topics were named, ``NoStampedDataError``."""
     stamped = recording.stamped
     if not stamped.streams:
-        raise NoStampedDataError([*stamped.problems, *_placed_nowhere(recording, query)])
+        nothing = NoStampedDataError([*stamped.problems, *_placed_nowhere(recording, query)])
+        return _unchecked(recording, query, FilterReport("", "", query.cache_time, [], [], {}), nothing)
     for problem in stamped.problems:
         if on_problem is not None:
             on_problem(problem)
@@ -59,11 +68,26 @@ def filter_messages(
     if not report.streams:
         whose = "whose header has" if len(report.skipped) == 1 else "whose headers have"
         unframed = [f"only {', '.join(report.skipped)}, {whose} no frame_id (not tied to tf)"] if report.skipped else []
-        raise NoStampedDataError([*stamped.problems, *unframed, *_placed_nowhere(recording, query)], unrecorded)
+        nothing = NoStampedDataError([*stamped.problems, *unframed, *_placed_nowhere(recording, query)], unrecorded)
+        return _unchecked(recording, query, report, nothing)
     if query.sensor_topics and on_problem is not None:  # asked for by name: not left out of the table unsaid
         for topic in unrecorded:
             on_problem(f"{topic}: {UNRECORDED}")
     return report
+
+
+def _unchecked(
+    recording: Recording, query: FilterQuery, report: FilterReport, nothing: NoStampedDataError
+) -> FilterReport:
+    """``report`` (of no topic) saying why none was checked, and what the recording holds; ``nothing`` raised
+    where topics were named: what was asked for is not there."""
+    if query.sensor_topics:
+        raise nothing
+    target, reason = choose_target(tree_of(recording.buffer), query.target)
+    topics = dict(sorted({t: kind for f in recording.contents.files for t, kind in f.topics.items()}.items()))
+    hint = nothing.hint if nothing.unrecorded else ""
+    unchecked = Unchecked(nothing.problems, topics, hint, recording.contents.live)
+    return replace(report, target=target, target_reason=reason, unchecked=unchecked)
 
 
 def _placed_nowhere(recording: Recording, query: FilterQuery) -> list[str]:

@@ -599,6 +599,17 @@ class StreamReport:
 
 
 @dataclass(frozen=True)
+class Unchecked:
+    """Why ``tfx filter`` found no sensor data to check, where none was asked for by name: ``reasons`` (empty:
+    no topic has a header at all) and ``topics``, what the recording holds (topic -> type)."""
+
+    reasons: list[str]
+    topics: dict[str, str]
+    hint: str = ""  # what to do where the topics read hold no message (``NoStampedDataError.hint``); "": none said
+    live: bool = False  # heard from a live system, not read from a recording
+
+
+@dataclass(frozen=True)
 class FilterReport:
     """Every stream's report against one target frame, and how the target was chosen."""
 
@@ -608,6 +619,10 @@ class FilterReport:
     streams: list[StreamReport]
     skipped: list[str]  # topics with a header but never a frame_id: not tied to tf
     fates: dict[str, Fates]  # each reported topic's messages' fates, by topic
+    #: Where no topic was named and none holds sensor data tied to tf (a recording of tf alone, or of
+    #: /rosout's frameless headers): why, in ``NoStampedDataError.problems``' words, and every topic the
+    #: recording holds (topic -> type); None where topics were checked.
+    unchecked: Unchecked | None = None
 
     @property
     def lost(self) -> bool:

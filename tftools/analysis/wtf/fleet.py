@@ -33,7 +33,7 @@ class BagReport:
     transforms: int = 0
     frames: int = 0
     sensor_topics: tuple[str, ...] = ()  # topics of data with a header, checked against tf
-    sensor_target: str = ""  # the frame that data was checked in
+    sensor_target: str = ""  # the frame that data was checked in; "" where there is no tree (targets.NO_TREE)
     sensor_target_reason: str = ""
     fetched: tuple[Fetched, ...] = ()  # of each file read by URL: what was fetched of it
     #: tf's first and last stamp (ns, ``Timeline.stamped``) where the record times are no clock (``start`` to

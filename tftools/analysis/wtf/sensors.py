@@ -10,7 +10,7 @@ from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.targets import is_odometry, odometry_tf_unpublished, world_frame_unpublished
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed
-from tftools.core.figures import KEEP, timeout_s, wait_in_words, within_in_words
+from tftools.core.figures import INSTANT, KEEP, timeout_s, under_tick, wait_in_words, within_in_words
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.codecs.types import TF1_MESSAGE
@@ -191,19 +191,39 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
         wait = timeout_s(needed, s.tick)
         kept = f"{KEEP:.1%} {within_in_words(needed, s.tick)}" if s.wait_needed is not None else f"at most {wait:.3f} s"
         timeout = f"{wait:.3f} s (it keeps {KEEP:.1%} of them)" if s.wait_needed is not None else f"{wait:.3f} s"
+        # an instant's wait for the transform of the message's own stamp: both sent together, the message first
+        together = s.late_edge is not None and not s.late_after and _instant(s.wait["p99"], s.tick)
         yield Finding(
             Severity.warning if long else Severity.info,
             "sensor_wait",
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
             f"arrived, waiting {wait_in_words(s.wait['p50'], s.tick)} ({kept}) for "
-            f"{edge(*s.late_edge) + ': ' + s.wait_made_of() if s.late_edge else 'tf'}",
+            f"{edge(*s.late_edge) + ': ' + s.wait_made_of() if s.late_edge else 'tf'}"
+            + (_TOGETHER if together else ""),
             f"{_at_once(scene, s.frame_ids, s.late_edge)}a node transforming it at once fails with 'extrapolation "
             f"into the future': use a tf2_ros MessageFilter (queue {max(s.queue_needed, 1)}) or "
-            f"canTransform/lookupTransform with a timeout of at least {timeout}, or make the late transform come "
-            "sooner",
+            f"canTransform/lookupTransform with a timeout of at least {timeout}, or "
+            + (
+                "send the transform before the message (where one node publishes both)"
+                if together
+                else "make the late transform come sooner"
+            ),
             s.late_edge or (),
             count=s.later,
         )
+
+
+#: What an instant's wait (``INSTANT``) for the transform of a message's own stamp is, and who it matters to.
+_TOGETHER = (
+    ". Each waits only for the transform of its own stamp, which comes just after it (sent together, the message "
+    "first): a MessageFilter holds it that instant and passes it; only a node that looks the transform up as the "
+    "message arrives, without waiting, fails"
+)
+
+
+def _instant(wait_ns: float, tick: int) -> bool:
+    """Whether a wait is an instant (``INSTANT``), on a clock fine enough to tell (not under one ``tick``)."""
+    return wait_ns < INSTANT and not under_tick(wait_ns, tick)
 
 
 def _at_once(scene: Scene, frame_ids: tuple[str, ...], late: tuple[str, str] | None) -> str:

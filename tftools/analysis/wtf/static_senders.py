@@ -42,6 +42,12 @@ class Sender:
     first: int = 0  # when its first message arrived (``Scene.arrival``)
     evidence: str = ""  # why it is not the publisher of an earlier message, said of it ("lacks ..."; "": none)
     number: int = 0  # told from the messages: 1 for the first to send
+    #: Of its ``messages``, those the same as its first (that one counted): the rest hold more transforms
+    #: (``most``: the most in one) or other values of its first's (``revalued``) (a copy ``tfx static --repair``
+    #: wrote: the merged latest transforms re-sent every 5 s)
+    alike: int = 0
+    most: int = 0
+    revalued: bool = False
 
 
 @dataclass(frozen=True)
@@ -93,6 +99,19 @@ class _Publisher:
     evidence: str
     latched: bool  # its latest message was sent before the recording began (``LATCHED_BEFORE``)
     stamps: tuple[int, int] = (0, 0)  # its latest message's earliest and latest stamps
+    key: bytes = b""  # its first message's ``seen`` key: later messages of that key are the same
+    alike: int = 1  # its messages the same as its first, that one counted
+    most: int = 0  # the most transforms in one of its messages
+    revalued: bool = False  # a later message holds another value for a transform of its first
+
+    def add(self, key: bytes, edges: dict[tuple[int, int], bytes] | None, first: dict[tuple[int, int], bytes]) -> None:
+        """One more message of it, seen under ``key``: ``edges``, its transforms, or None for a key seen
+        before (what it holds already counted); ``first``: its first message's transforms."""
+        self.messages += 1
+        self.alike += key == self.key
+        if edges is not None:
+            self.most = max(self.most, len(edges))
+            self.revalued |= any(e in edges and edges[e] != v for e, v in first.items())
 
 
 def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array, list[Sender]] | None:
@@ -113,6 +132,7 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
     several = listing >= 2
     began = _recording_began(scene)
     publishers: list[_Publisher] = []
+    firsts: list[dict[tuple[int, int], bytes]] = []  # each publisher's first message's transforms
     chosen = np.empty(len(messages), np.int32)
     seen: dict[bytes, int] = {}
     for m in messages.in_arrival_order():
@@ -122,8 +142,9 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
         # holds one: the same transforms with other stamps are another publisher's, not a re-send.
         key = keys[m] + (messages.stamp_bytes(m) if latched else b"")
         if key in seen:  # the same transforms again: a re-send
-            publishers[seen[key]].messages += 1
-            chosen[m] = seen[key]
+            k = seen[key]
+            publishers[k].add(key, None, firsts[k])
+            chosen[m] = k
             continue
         edges = messages.transforms(m)
         # Where the recording lists more publishers than are told apart, the same values with other stamps
@@ -131,12 +152,16 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
         held = latched or len(publishers) < listing
         earlier, evidence = _publisher_of(scene, publishers, edges, several, said, (held, low, high))
         if earlier is None:
-            publishers.append(_Publisher(edges, 1, len(edges), messages.arrival(m), evidence, latched, (low, high)))
+            first = messages.arrival(m)
+            publishers.append(
+                _Publisher(edges, 1, len(edges), first, evidence, latched, (low, high), key, most=len(edges))
+            )
+            firsts.append(edges)
             k = len(publishers) - 1
         else:
             k = earlier
+            publishers[k].add(key, edges, firsts[k])
             publishers[k].latest = edges
-            publishers[k].messages += 1
             publishers[k].latched = latched
             publishers[k].stamps = (low, high)
         seen[key] = k
@@ -203,7 +228,8 @@ def _publisher_of(
 
 
 def _sender(number: int, p: _Publisher) -> Sender:
-    return Sender(f"/tf_static publisher {number} (unnamed)", p.messages, p.transforms, p.first, p.evidence, number)
+    name = f"/tf_static publisher {number} (unnamed)"
+    return Sender(name, p.messages, p.transforms, p.first, p.evidence, number, p.alike, p.most, p.revalued)
 
 
 class _Messages:

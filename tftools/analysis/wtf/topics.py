@@ -309,7 +309,18 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
 
 
 def _times(sender: Sender) -> str:
-    return f" (the same {sender.messages} times)" if sender.messages > 1 else ""
+    """How often a publisher told apart sent, true of what it sent again: its first message, or later ones
+    holding more transforms or other values (a copy ``tfx static --repair`` wrote of the real Create 3's two
+    descriptions re-sends the merged 35 every 5 s after publisher 2's first 23)."""
+    if sender.messages <= 1:
+        return ""
+    if sender.alike == sender.messages:
+        return f" (the same {sender.messages} times)"
+    held = [f"up to {sender.most} transforms"] if sender.most > sender.transforms else []
+    held += ["other values of them"] if sender.revalued else []
+    same = f"the same {sender.alike} times; " if sender.alike > 1 else ""
+    more = sender.messages - sender.alike
+    return f" ({same}{more} more {'message' if more == 1 else 'messages'} with {' and '.join(held) or 'other stamps'})"
 
 
 def _apart(metres: float, degrees: float) -> str:
