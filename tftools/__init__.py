@@ -6,25 +6,9 @@ it is written), as the build wrote it into the installed package; read on first 
 
 from __future__ import annotations
 
-import os
-import sys
 from typing import TYPE_CHECKING, Any
 
 from tftools import lazy
-
-
-def _blas_threads_sleep_when_idle() -> None:
-    """numpy's OpenBLAS, loaded at numpy's import, starts a thread per core that spins ~0.1 s for work before it
-    sleeps (its thread timeout, 2**28 cycles): ~65 ms of CPU on the other core while numpy and tftools are
-    imported and the read starts, where the read's decode thread and ``Spare`` want it (on one core, the
-    importing thread's own). tftools calls no threaded BLAS; its idle threads may sleep at once (2**4 cycles,
-    OpenBLAS's least): asked where numpy is not imported yet (OpenBLAS reads it when loaded) and the user set no
-    timeout of their own. The threads' count, and every result, are as before."""
-    if "numpy" not in sys.modules:
-        os.environ.setdefault("OPENBLAS_THREAD_TIMEOUT", "4")
-
-
-_blas_threads_sleep_when_idle()
 
 if TYPE_CHECKING:
     from tftools.analysis import (

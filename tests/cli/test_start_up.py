@@ -137,9 +137,11 @@ def blas_timeout_after(code: str, **env: str) -> str | None:
     return found
 
 
-def test_numpys_blas_threads_sleep_when_idle_unless_the_user_said() -> None:
-    """Set before numpy's import (OpenBLAS reads it when loaded), so that its threads do not spin on the core the
-    read's threads want; a user's own value kept, and nothing set once numpy is imported (too late to matter)."""
-    assert blas_timeout_after("import tftools") == "4"
-    assert blas_timeout_after("import tftools", OPENBLAS_THREAD_TIMEOUT="20") == "20"
-    assert blas_timeout_after("import numpy, tftools") is None
+def test_tfx_lets_numpys_blas_threads_sleep_when_idle_and_a_library_import_leaves_the_process_alone() -> None:
+    """tfx sets it before numpy's import (OpenBLAS reads it when loaded), so that its threads do not spin on the core
+    the read's threads want; a user's own value kept; ``import tftools`` in a user's script changes nothing."""
+    sample = str(SAMPLE_BAGS["ros1"])
+    tfx = f"import sys\nsys.argv = ['tfx', 'frames', '-b', {sample!r}]\nfrom tftools.cli import app\napp._run()"
+    assert blas_timeout_after(tfx) == "4"
+    assert blas_timeout_after(tfx, OPENBLAS_THREAD_TIMEOUT="20") == "20"
+    assert blas_timeout_after("import tftools") is None

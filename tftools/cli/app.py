@@ -36,10 +36,21 @@ def main() -> None:
     sys.exit(code)
 
 
+def _blas_threads_sleep_when_idle() -> None:
+    """numpy's OpenBLAS, loaded at numpy's import, starts a thread per core that spins ~0.1 s for work before it
+    sleeps (its thread timeout, 2**28 cycles): ~65 ms of CPU on the other core while tfx starts and its read
+    begins, where the read's decode thread wants it. tfx calls no threaded BLAS, so its idle threads may sleep at
+    once (2**4 cycles, OpenBLAS's least). Set here, in tfx's own process, not at ``import tftools``: a library
+    does not change its user's process (the user's own value is kept either way)."""
+    if "numpy" not in sys.modules:  # OpenBLAS reads it once, when numpy loads it
+        os.environ.setdefault("OPENBLAS_THREAD_TIMEOUT", "4")
+
+
 def _run() -> int:
     if sys.argv[1:] == ["--version"]:  # the one answer that needs neither the parser nor a subcommand
         print(version_line())
         return 0
+    _blas_threads_sleep_when_idle()
     from tftools.cli.streams import OutputError, ReaderGone, checked_stdout
 
     checked_stdout()
