@@ -359,6 +359,22 @@ def test_a_tree_like_another_under_another_namespace_lacks_a_transform_not_a_let
     assert "world -> robot_0/odom and world -> robot_1/odom: publish world -> robot_2/odom" in finding.hint
 
 
+def test_robots_each_in_a_tree_of_their_own_lack_a_common_parent_not_a_letter() -> None:
+    """Three robots in Stage with no world recorded (ros1_pfms_a4_stage_three_robots_no_world_clock_2020.bag): each
+    robot's tree is the others' under its own prefix and none is joined to anything; 'robot_1/odom' is no misspelling
+    of 'robot_2/odom'."""
+    messages = [
+        TfMessage("/tf", START + k * MS, [_t(parent, child, START + k * MS)], "/stage")
+        for k in range(3)
+        for r in range(3)
+        for parent, child in [(f"robot_{r}/odom", f"robot_{r}/base_link"), (f"robot_{r}/base_link", f"robot_{r}/laser")]
+    ]
+    finding = only(check(recording(messages)).findings, "disconnected")
+    assert "misspelling" not in finding.hint
+    assert "robot_0/odom, robot_1/odom and robot_2/odom head trees of the same frames" in finding.hint
+    assert "world -> robot_0/odom and likewise for the others" in finding.hint
+
+
 @pytest.mark.parametrize("ros1", [True, False])
 def test_disconnected_without_tf_static_recorded_says_so(ros1: bool) -> None:
     # Formant's TurtleBot3 fixture (/tf alone): odom -> base_footprint and base_link's wheels, the fixed

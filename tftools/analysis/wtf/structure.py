@@ -214,6 +214,8 @@ def _twin_root(roots: list[str], members: dict[str, list[str]], tree: FrameTree)
             and all(frame[: -len(local)] + name in tree.frames for name in names)
         ]
         if not twins:
+            if alike := _root_twins(root, local, names, roots, tree):
+                return _fleet_hint([root, *alike], names)
             continue
         parent = tree.frames[twins[0]].parent
         owners = and_joined([f"{twin[: -len(local) - 1]}'s" for twin in twins])
@@ -223,6 +225,27 @@ def _twin_root(roots: list[str], members: dict[str, list[str]], tree: FrameTree)
             f"to the rest by {joins}: publish {parent} -> {root} as they do (a transform missing, not a typo)"
         )
     return None
+
+
+def _root_twins(root: str, local: str, names: list[str], roots: list[str], tree: FrameTree) -> list[str]:
+    """The other roots heading the same frames under their own prefix (robot_0/odom beside robot_1/odom)."""
+    return [
+        other
+        for other in roots
+        if other != root and other.endswith("/" + local) and all(other[: -len(local)] + n in tree.frames for n in names)
+    ]
+
+
+def _fleet_hint(heads: list[str], names: list[str]) -> str:
+    """Robots each in a tree of its own, none joined to a common frame (a PFMS assignment's three robots in
+    Stage, no world recorded): a transform missing for each, not a misspelt name."""
+    heads = sorted(heads)
+    return (
+        f"{and_joined(heads)} head trees of the same frames under their own prefixes ({listed(names)}), and "
+        f"nothing joins them (transforms missing, not a typo): if they are looked up together, publish a common "
+        f"parent for each (a static_transform_publisher world -> {heads[0]} and likewise for the others, or "
+        "map -> odom from each robot's localization)"
+    )
 
 
 def join_hint(roots: list[str], members: dict[str, list[str]], tree: FrameTree) -> str:
