@@ -492,12 +492,15 @@ def test_a_replay_says_the_delays_of_a_whole_read_on_a_simulations_ticks(tmp_pat
 
 
 def test_record_grid_needs_enough_times_on_one_grid() -> None:
-    """A grid is read off 20 or more distinct record times, every step a multiple of the smallest, that of a
-    millisecond or more: not off a few, nor off a wall clock's."""
+    """A grid is read off 15 or more distinct record times, every step a multiple of the smallest, that of a
+    millisecond or more: not off a few, nor off a wall clock's. A PFMS quiz's Stage bag of 1.7 s holds 18 ticks
+    of 0.1 s (ros1_pfms_quiz5_a1_stage_three_robots_joined.bag): its stamps one tick ahead are no delay of -0.1 s."""
     ticks = 100 * S + np.arange(40, dtype=np.int64) * 3 * MS
     assert record_grid(ticks) == 3 * MS and record_grid(np.repeat(ticks, 2)) == 3 * MS
     jittered = ticks + np.random.default_rng(5).integers(0, 1000, 40)
     assert record_grid(ticks[:10]) == 0 and record_grid(jittered) == 0
+    stage = 429_500 * MS + np.arange(18, dtype=np.int64) * 100 * MS
+    assert record_grid(stage) == 100 * MS
     assert record_grid(100 * S + np.arange(40, dtype=np.int64) * 10_000) == 0  # 10 us apart: fine
 
 

@@ -591,7 +591,7 @@ def timeline_of(
 
 
 #: Record times on one grid (``record_grid``): at least this many distinct ones, ``FINE_STEP`` or more apart.
-GRID_MIN_TIMES = 20
+GRID_MIN_TIMES = 15
 #: Samples of one edge with other stamps recorded at one instant, in pairs: no wall clock gives this many.
 SHARED_TICKS = 5
 
