@@ -208,10 +208,7 @@ def _twin_root(roots: list[str], members: dict[str, list[str]], tree: FrameTree)
             for other in roots
             if other != root
             for frame in members[other]
-            if frame.endswith("/" + local)
-            and frame != root
-            and tree.frames[frame].parent is not None
-            and all(frame[: -len(local)] + name in tree.frames for name in names)
+            if frame != root and tree.frames[frame].parent is not None and _heads_alike(frame, local, names, tree)
         ]
         if not twins:
             if alike := _root_twins(root, local, names, roots, tree):
@@ -229,11 +226,12 @@ def _twin_root(roots: list[str], members: dict[str, list[str]], tree: FrameTree)
 
 def _root_twins(root: str, local: str, names: list[str], roots: list[str], tree: FrameTree) -> list[str]:
     """The other roots heading the same frames under their own prefix (robot_0/odom beside robot_1/odom)."""
-    return [
-        other
-        for other in roots
-        if other != root and other.endswith("/" + local) and all(other[: -len(local)] + n in tree.frames for n in names)
-    ]
+    return [other for other in roots if other != root and _heads_alike(other, local, names, tree)]
+
+
+def _heads_alike(frame: str, local: str, names: list[str], tree: FrameTree) -> bool:
+    """Whether ``frame`` is ``local`` under a prefix of its own, with every one of ``names`` under that prefix."""
+    return frame.endswith("/" + local) and all(frame[: -len(local)] + name in tree.frames for name in names)
 
 
 def _fleet_hint(heads: list[str], names: list[str]) -> str:
