@@ -327,3 +327,38 @@ def test_of_many_recorded_descriptions_the_latest_is_read_and_few_are_held(
     with BagReader([bag], ("/robot_description",), whole=("/robot_description",)) as reader:
         (held,) = [w for w in reader.read().whole if w.topic == "/robot_description"]
     assert held.values[-1] == texts[-1] and 1 <= len(held.values) <= 3
+
+
+@pytest.mark.parametrize("described", [True, False], ids=["with-urdf", "without"])
+def test_a_movable_joint_constant_on_tf_is_a_joint_at_rest_not_a_fixed_transform(described: bool) -> None:
+    """ros2_db3_eyrc_hologlyph_hb_bot_gazebo_two_trees_two_clocks_2023: robot_state_publisher sends the three
+    continuous wheels (joint_state_publisher's zeros) on /tf, constant at 10 Hz. ROS 2 names no publisher, so
+    wtf said static_on_dynamic, 'publish it once on /tf_static ... or a fixed joint', though the recorded
+    /robot_description calls them continuous. Without a description the warning stands."""
+    wheel = Transform.from_rpy((0, 0.15, 0), (-math.pi / 2, 0, 0), START, "base_link", "wheel_left_link")
+    messages = [
+        TfMessage("/tf", START + i * NS_PER_S // 10, [replace(wheel, stamp=START + i * NS_PER_S // 10)])
+        for i in range(30)
+    ]
+    scene = Scene(recording(messages, ros1=False), robot=Robot(ROBOT) if described else None)
+    said = [f.frames for f in findings_of(scene) if f.code == "static_on_dynamic"]
+    assert said == ([] if described else [("base_link", "wheel_left_link")])
+
+
+def test_odometry_publishing_a_base_the_description_lacks_names_both_frames() -> None:
+    """ros2_db3_eyrc_hologlyph_hb_bot_gazebo_two_trees_two_clocks_2023: Gazebo's planar move, its ROS 1 tags
+    unread, publishes its default odom -> base_footprint, while the recorded URDF's root is footprint_link:
+    two trees, and the hint said 'publish the transform that attaches odom to the footprint_link tree ... or
+    check the frame names for typos'. The description names the two frames to make one."""
+    renamed = parse_urdf(URDF.replace("base_footprint", "footprint_link"), "rover.urdf")
+    body = Transform.from_rpy((0, 0, 0.1), (0, 0, 0), START, "footprint_link", "base_link")
+    messages = [TfMessage("/tf_static", START, [body])] + [
+        TfMessage("/tf", t, [Transform.from_rpy((0.01 * i, 0, 0), (0, 0, 0), t, "odom", "base_footprint")])
+        for i, t in enumerate(START + k * NS_PER_S // 20 for k in range(40))
+    ]
+    for robot, said in ((Robot(renamed), True), (None, False)):
+        (apart,) = [
+            f for f in findings_of(Scene(recording(messages, ros1=False), robot=robot)) if f.code == "disconnected"
+        ]
+        assert ("odom -> base_footprint names a base that rover.urdf lacks" in apart.hint) is said
+        assert ("make the odometry publish odom -> footprint_link" in apart.hint) is said

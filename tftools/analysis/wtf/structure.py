@@ -16,7 +16,7 @@ from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.mounts import mount_between, mount_hint
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import split
-from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
+from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
 from tftools.analysis.wtf.sensors import TYPO_CUTOFF, statics_missing
 from tftools.analysis.wtf.static_senders import static_senders
 from tftools.analysis.wtf.topics import StaticShared, static_shared
@@ -157,6 +157,7 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         "disconnected",
         f"{len(roots)} separate trees, and no lookup between them: {trees}",
         _twin_root(roots, members, scene.tree)
+        or _base_unlike_description(scene, roots, members)
         or _misspelt_root(roots, members)
         or _mount_seen(scene, roots, members)
         or statics_missing(scene, "the fixed transforms that would join them")
@@ -164,6 +165,28 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         tuple(roots),
         count=len(roots),
     )
+
+
+def _base_unlike_description(scene: Scene, roots: list[str], members: dict[str, list[str]]) -> str | None:
+    """Odometry's base apart from the description's root (Gazebo's planar move publishing its default
+    base_footprint beside a URDF rooted at footprint_link): the two names to make one, or None."""
+    robot = scene.robot
+    if robot is None:
+        return None
+    description = robot.description
+    heads = [r for r in roots if r in description.links and description.joint_of(r) is None]
+    for root in roots if heads else ():
+        for frame in members[root]:
+            parent = scene.tree.frames[frame].parent
+            if parent is None or base_name(parent) != "odom" or frame in description.links:
+                continue
+            return (
+                f"{parent} -> {frame} names a base that {description.source} lacks, while the robot's links hang "
+                f"from {heads[0]}, which nothing joins to {parent}: make the odometry publish {parent} -> "
+                f"{heads[0]} (Gazebo's diff drive and planar move: robot_base_frame), or name the description's "
+                f"root {frame}"
+            )
+    return None
 
 
 def _mount_seen(scene: Scene, roots: list[str], members: dict[str, list[str]]) -> str | None:

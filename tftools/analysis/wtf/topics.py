@@ -39,9 +39,11 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     """Not for edges moving by nature (REP 105's map -> odom -> base: a robot standing still), nor
     for edges another finding accounts for (a second parent or publisher, a loop), nor for joints
     that did not move: constant edges from robot_state_publisher (whose /tf joints are movable ones),
-    or sent in the same messages as moving ones (a gripper finger at rest among the arm's joints)."""
+    sent in the same messages as moving ones (a gripper finger at rest among the arm's joints), or
+    movable joints of the robot's description (a wheel its /joint_states hold at 0)."""
     rows = scene.rows
     contested = _contested(scene)
+    joints = _movable_joints(scene)
     constant: list[tuple[str, str, np.ndarray]] = []
     moving = np.zeros(len(rows), bool)
     for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
@@ -50,7 +52,7 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
     # the rate and stamps as monitor counts them (the samples tf2 stores: a stamp sent again is one)
     stored = {(s.parent, s.child): s for s in scene.stats}
     for parent, child, mine in constant:
-        if len(mine) < STATIC_MIN_SAMPLES or child in contested:
+        if len(mine) < STATIC_MIN_SAMPLES or child in contested or child in joints:
             continue
         if _moving_by_nature(parent) or child in (parent, *scene.tree.ancestors(parent)):
             continue  # moving by nature, or in a loop
@@ -75,6 +77,13 @@ def static_on_dynamic(scene: Scene) -> Iterator[Finding]:
             (parent, child),
             mine,
         )
+
+
+def _movable_joints(scene: Scene) -> set[str]:
+    """Child links of the description's movable joints: where ROS 2 names no publisher, the description
+    says what robot_state_publisher's name would (a continuous wheel is no fixed transform)."""
+    robot = scene.robot
+    return set() if robot is None else {j.child for j in robot.description.joints if j.moving}
 
 
 def _mark_moving(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
