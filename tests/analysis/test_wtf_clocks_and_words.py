@@ -34,6 +34,7 @@ from tests.analysis.wtf_scenes import (
     write,
 )
 from tests.bags import BagFormat, TfMessage
+from tftools.analysis.description import Robot
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.graph import view_frames
 from tftools.analysis.monitor import MonitorQuery, chain_span, monitor
@@ -45,6 +46,7 @@ from tftools.core.transform import Transform
 from tftools.sources import read_recording
 from tftools.sources.contents import ClockSamples
 from tftools.sources.recording import Recording
+from tftools.sources.urdf import parse_urdf
 
 
 def _codes(findings: list[Finding]) -> list[tuple[str, Severity]]:
@@ -722,3 +724,24 @@ def test_monitor_of_a_chain_on_its_own_clock_counts_on_it_and_says_why_it_has_no
     assert own_clock_stamps(measured) == ""
     assert measured.chain is not None and measured.chain.edges[0].delay_mean == DELAY
     assert monitor(made, MonitorQuery()).other_clock == ("arm",)  # every edge: the arm's said, not the device's
+
+
+def test_the_descriptions_joints_on_the_wall_clock_are_robot_state_publisher_not_a_device() -> None:
+    """ros2_db3_eyrc_hologlyph_hb_bot_gazebo_two_trees_two_clocks_2023: robot_state_publisher without use_sim_time
+    sends the wheels on the wall clock beside Gazebo's odom on /clock, a tree apart; wtf called them 'a device on
+    the wall clock beside the simulation' and told to put 'the device's driver on use_sim_time'. The recorded
+    /robot_description names those joints: robot_state_publisher is the node to set use_sim_time for."""
+    urdf = '<robot name="bot"><link name="imu_link"/><link name="sonar"/><joint name="j" type="continuous">'
+    urdf += '<parent link="imu_link"/><child link="sonar"/><axis xyz="0 0 1"/></joint></robot>'
+    arm = periodic("/arm", 20, lambda t: [_t("base_link", "arm", t, (t - SIM_START) / NS_PER_S)], stamp=sim)
+    wheel = periodic("/imu", 10, lambda t: [_t("imu_link", "sonar", t, yaw=(t - START) / NS_PER_S)])
+    rec = recording(sorted(arm + wheel, key=lambda m: m.record_time), ros1=False, clock=sim_clock())
+    for robot in (Robot(parse_urdf(urdf, "bot.urdf")), None):
+        (clock,) = [
+            f for f in findings_of(Scene(rec, robot=robot)) if f.code == "clock" and f.severity is Severity.error
+        ]
+        assert ("joints of bot.urdf, robot_state_publisher's" in clock.message) is bool(robot), clock.message
+        assert ("a device on the wall clock" in clock.message) is not robot, clock.message
+        assert ("robot_state_publisher (and the joint states it follows) runs without use_sim_time" in clock.hint) is (
+            bool(robot)
+        )

@@ -44,6 +44,8 @@ def _hint(kind: str, ros2: bool) -> str:
         "the device's frames up with the simulated ones, put both on one clock (the device's driver on use_sim_time, "
         "stamping the simulation's time, and a transform joining its tree to the robot's), or keep the two trees "
         "apart and look each up on its own clock",
+        "described": "robot_state_publisher (and the joint states it follows) runs without use_sim_time beside the "
+        f"simulation: set use_sim_time true for it too (and replay bags with {play})",
         "joined": "lookups combining these frames with the simulated ones fail with extrapolation errors: put them "
         "on one clock. A node of the simulation: set use_sim_time true for it "
         f"too (and replay bags with {play}). A real device beside the simulation, whose driver stamps the wall "
@@ -94,7 +96,18 @@ def _wall_kind(scene: Scene, edges: Sequence[EdgeClock]) -> str:
     near = scene.timeline.same_clock
     if not all(abs(e.offset_record) <= near for e in edges):
         return "simulated"
+    if _described(scene, edges):
+        return "described"
     return "device" if _tree_apart(scene, edges) else "joined"
+
+
+def _described(scene: Scene, edges: Sequence[EdgeClock]) -> bool:
+    """Whether ``edges`` are all joints of the robot's description (robot_state_publisher's, not a device's)."""
+    robot = scene.robot
+    if robot is None:
+        return False
+    joints = {(j.parent, j.child) for j in robot.description.joints}
+    return all((_parent(scene, e.child), e.child) in joints for e in edges)
 
 
 def _zero_kind(scene: Scene, kind: str) -> str:
@@ -162,6 +175,7 @@ def _disagreeing(
     reference = float(np.median([_reference_time(e, against_clock) for e in edges])) / NS_PER_S
     offset = float(np.median([_offset(e, against_clock) for e in edges])) / NS_PER_S
     clock_name = scene.timeline.clock.topic if against_clock else "the recording's clock"
+    source = scene.robot.description.source if scene.robot else ""
     names = [e.child for e in agreeing]
     named = and_joined(names) if len(names) <= 3 else listed(names, 3)
     following = f" (which {named} follow{'s' if len(agreeing) == 1 else ''})"
@@ -174,6 +188,9 @@ def _disagreeing(
         "device": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
         f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s); a tree of "
         "their own: a device on the wall clock beside the simulation",
+        "described": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
+        f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s): joints of "
+        f"{source}, robot_state_publisher's",
         "joined": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
         f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s), in one tree "
         f"with them ({_tree_of(scene, edges)}): a publisher on the wall clock (a node without use_sim_time, or a "
