@@ -349,6 +349,21 @@ def test_two_identical_publishers_of_every_sample_are_two_broadcasters_in_a_ros2
     assert "robot_state_publisher" in finding.message and "drops the exact copies" in finding.hint
 
 
+def test_three_identical_publishers_are_said_three_times_not_twice() -> None:
+    """ros2_db3_eyrc_hologlyph_hb_bot_gazebo_planar_move_thrice_no_metadata_2023: a URDF with Gazebo's planar move
+    plugin three times sends odom -> base_footprint three times a stamp; wtf said 'arrives twice: 308 of its 308
+    stamps arrived again (3 times each)' and 'every sample costs twice'."""
+    thrice = [
+        m
+        for message in scenes.wheels()
+        for k in (0, 1, 2)
+        for m in [TfMessage("/tf", message.record_time + k * MS // 4, message.transforms, f"/rsp{k}")]
+    ]
+    (finding,) = _ros2_findings(scenes.healthy(wheels=thrice))
+    assert "arrives 3 times: 200 of its 200 stamps arrived again (3 times each)" in finding.message
+    assert "twice" not in finding.message + finding.hint and "every sample costs 3 times" in finding.hint
+
+
 def test_two_publishers_of_the_same_stamps_with_other_values_are_said_to_differ() -> None:
     other = scenes.periodic("/rsp2", 20, _other_wheel, delay=scenes.DELAY + MS // 2)
     (finding,) = _ros2_findings(scenes.healthy(wheels=sorted(scenes.wheels() + other, key=lambda m: m.record_time)))

@@ -17,6 +17,8 @@ BY_ID = {r.id: r for r in RECORDINGS}
 
 Corpus = Callable[[Recording], Path]
 
+THRICE = "ros2-eyrc-hologlyph-holonomic-bot-gazebo-planar-move-three-times-odometry-thrice-metadata-renamed-2023-db3"
+
 HOLOGLYPH = {
     "ros2-eyrc-hologlyph-holonomic-bot-gazebo-plugin-default-base-footprint-two-trees-wheels-on-wall-clock-2023-db3": (
         "rear_wheel"
@@ -24,6 +26,7 @@ HOLOGLYPH = {
     "ros2-eyrc-hologlyph-holonomic-bot-gazebo-started-after-recording-wall-clock-wheels-before-clock-2023-db3": (
         "front_wheel"
     ),
+    THRICE: "rear_wheel",
 }
 
 
@@ -46,3 +49,15 @@ def test_the_descriptions_own_frames_are_named_as_such(name: str, corpus: Corpus
     (apart,) = [f for f in bag["findings"] if f["code"] == "disconnected"]
     assert "odom -> base_footprint names a base that the recorded /robot_description lacks" in apart["hint"]
     assert "make the odometry publish odom -> footprint_link" in apart["hint"]
+
+
+def test_odometry_sent_three_times_a_stamp_is_said_three_times(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Team 1809's URDF holds Gazebo's planar move three times: odom -> base_footprint arrives 3 times a stamp
+    (308 stamps, 924 samples). wtf said 'arrives twice: 308 of its 308 stamps arrived again (3 times each)'."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[THRICE]), "--format", "json").stdout)["bags"]
+    (twins,) = [f for f in bag["findings"] if f["code"] == "multiple_authorities"]
+    assert (
+        "odom -> base_footprint on /tf arrives 3 times: 308 of its 308 stamps arrived again (3 times each)"
+        in (twins["message"])
+    )
+    assert "twice" not in twins["message"] + twins["hint"]

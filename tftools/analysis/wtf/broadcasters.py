@@ -459,8 +459,10 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
     largest = max(found, key=lambda d: (d.apart.metres, d.apart.degrees))  # every edge here has copies: one at least
     apart_ = dataclasses.replace(largest.apart, instants=sum(d.apart.instants for d in found))
     compared = dataclasses.replace(largest, apart=apart_, contradicting=sum(d.contradicting for d in found))
+    most = max(repeats.times[1] for _, _, repeats in edges)
+    times = "twice" if most <= 2 else f"{most} times"
     if _nil(apart_):
-        effect = "tf2 drops the exact copies, so lookups are right, but every sample costs twice"
+        effect = f"tf2 drops the exact copies, so lookups are right, but every sample costs {times}"
     else:
         effect = "tf2 keeps both where they differ, so lookups mix the two publishers' values"
     every = np.sort(np.concatenate([mine for _, mine, _ in edges]))
@@ -468,15 +470,18 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
     authorities = scene.authorities_of(every)
     metadata, listed_count = _listed_said(scene, authorities)
     if listed_count == 1:
-        conclusion = "one publisher sending each sample twice, or a second one started after recording began"
+        more = "a second one" if most <= 2 else "more"
+        conclusion = f"one publisher sending each sample {times}, or {more} started after recording began"
     else:
-        conclusion = "two identical publishers, it seems (two robot_state_publishers, or one launched twice)"
+        several = "two" if most <= 2 else str(most)
+        conclusion = f"{several} identical publishers, it seems ({several} robot_state_publishers, or one launched "
+        conclusion += f"{times})"
     named = [edge(*frames) for frames, _, _ in edges]
     names = and_joined(named) if len(named) <= LISTED else listed(named, LISTED)
     finding = scene.finding(
         compared.severity,
         "multiple_authorities",
-        f"{names}{scene.by(authorities)} {'arrive' if len(edges) > 1 else 'arrives'} twice: "
+        f"{names}{scene.by(authorities)} {'arrive' if len(edges) > 1 else 'arrives'} {times}: "
         f"{together.said('their' if len(edges) > 1 else 'its')}, {together.timing()}; {compared.said(scene)}"
         f"{metadata}: {conclusion}; this recording does not name publishers{compared.follows()}",
         f"{effect}: find them ({scene.list_publishers('/tf')}) and stop the one that should not run",
