@@ -176,6 +176,8 @@ def _base_unlike_description(scene: Scene, roots: list[str], members: dict[str, 
     description = robot.description
     heads = [r for r in roots if r in description.links and description.joint_of(r) is None]
     for root in roots if heads else ():
+        if heads[0] in members[root]:
+            continue
         for frame in members[root]:
             parent = scene.tree.frames[frame].parent
             if parent is None or base_name(parent) != "odom" or frame in description.links:
