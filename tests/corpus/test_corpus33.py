@@ -29,3 +29,32 @@ def test_a_localizers_map_under_odom_is_no_odometry_told_to_stay_continuous(
     (finding,) = [f for f in bag["findings"] if f["code"] == "jump"]
     assert finding["frames"][:2] == ["odom", "map_contours_nav"], finding
     assert "publish it as map -> odom" in finding["hint"] and "odom -> base" not in finding["hint"], finding["hint"]
+
+
+GUARDIAN_DECEMBER = "ros1-robotnik-guardian-real-tilting-laser-pallet-robot-clock-7.6-s-ahead-no-callerid-2014-bag"
+GUARDIAN_SEPTEMBER = "ros1-robotnik-guardian-real-lab-run-empty-tf-messages-rsp-post-dated-no-callerid-2014-bag"
+
+
+def test_diff_of_one_robot_three_months_apart_says_how_far_its_mounts_on_tf_moved(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The Guardian of December and September 2014 sends its fixed joints on /tf at 50 Hz, never changing: base_link
+    sits 111 mm higher in December, the front laser 40 mm to the side, the tracks turned 180 degrees; diff said only
+    that the four wheels were lost, as it compared the values of /tf_static's edges only."""
+    result = tfx("diff", corpus(BY_ID[GUARDIAN_DECEMBER]), corpus(BY_ID[GUARDIAN_SEPTEMBER]), "--format", "json")
+    by_frame = {d["frame"]: d for d in json.loads(result.stdout)["differences"]}
+    moved = {frame: (round(d["translation_mm"], 1), round(d["rotation_deg"], 1)) for frame, d in by_frame.items()}
+    assert {f: m for f, m in moved.items() if by_frame[f]["change"] == "moved"} == {
+        "base_link": (111.0, 0.0),
+        "hokuyo_frontal_laser_link": (40.0, 0.0),
+        "left_track": (0.0, 180.0),
+        "right_track": (0.0, 180.0),
+    }, by_frame
+    assert {f for f, d in by_frame.items() if d["change"] == "lost"} == {
+        "back_left_wheel",
+        "back_right_wheel",
+        "front_left_wheel",
+        "front_right_wheel",
+    }
+    assert result.code == 1
