@@ -58,3 +58,21 @@ def test_diff_of_one_robot_three_months_apart_says_how_far_its_mounts_on_tf_move
         "front_right_wheel",
     }
     assert result.code == 1
+
+
+SHIP_SIM = "ros1-gazebo-guardian-ship-interior-record-times-from-zero-ground-truth-repeated-stamps-no-callerid-2014-bag"
+
+
+def test_a_ground_truth_repeating_its_stamp_2_to_24_times_is_one_publisher_not_twins(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The Guardian's Gazebo model: base_footprint -> map_ground_truth comes ~624 times a second on 1,616 stamps
+    (one /tf connection, no callerid), 890 of them sent 2 to 24 times with other values. wtf said 'arrives twice
+    ... two identical publishers, it seems' and no time_backwards; it is one publisher whose stamp does not advance,
+    and ROS 1's tf2 drops the 11,354 repeats."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[SHIP_SIM]), "--format", "json").stdout)["bags"]
+    said = {(f["code"], tuple(f["frames"][:2])): f for f in bag["findings"]}
+    assert ("multiple_authorities", ("base_footprint", "map_ground_truth")) not in said, said.keys()
+    repeated = said[("time_backwards", ("base_footprint", "map_ground_truth"))]
+    assert "11354 transforms with a stamp it had already sent" in repeated["message"], repeated["message"]
