@@ -194,6 +194,29 @@ def test_two_publishers_of_the_same_stamps_that_disagree_are_one_warning_for_eve
     assert "mix" in finding.hint
 
 
+def _ground_truth_on_a_coarse_clock() -> list[TfMessage]:
+    """One publisher of the ground truth at 500 Hz, each sample a little further (0.1 mm), stamped from a
+    simulation clock that ticks every 2 to 24 of its samples, arriving within the same ms: a stamp repeated
+    2 to 24 times with other values (the Guardian's Gazebo model in the ship interior, 2014)."""
+    messages, stamp, left = [], START, 2
+    for i in range(1000):
+        if left == 0:
+            stamp, left = START + i * 2 * MS, (2, 24, 5, 11)[i % 4]
+        left -= 1
+        truth = Transform((0.0001 * i, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), stamp, "base_footprint", "ground_truth")
+        messages.append(TfMessage("/tf", START + (i * 2 // 10) * 10 * MS, [truth], ""))
+    return messages
+
+
+def test_a_stamp_one_publisher_repeats_2_to_24_times_is_no_pair_of_identical_publishers(tmp_path: Path) -> None:
+    """Two identical publishers send each stamp twice; a stamp sent 2 to 24 times, each with another value, is one
+    publisher whose clock does not advance: tf2 drops the repeats (time_backwards), no second publisher to stop."""
+    findings = _findings(tmp_path, scenes.healthy() + _ground_truth_on_a_coarse_clock(), {"/tf": 1})
+    assert not [f for f in coded(findings, "multiple_authorities") if "ground_truth" in f.frames], findings
+    (repeated,) = [f for f in coded(findings, "time_backwards") if "ground_truth" in f.frames]
+    assert "already sent came again with other values" in repeated.message, repeated.message
+
+
 def _moved(t: Transform, y: float) -> Transform:
     x, y0, z = t.translation
     return Transform((x, y0 + (y if y0 > 0 else -y), z), t.rotation, t.stamp, t.frame_id, t.child_frame_id)

@@ -240,6 +240,26 @@ def test_a_jump_on_another_edge_is_a_warning_with_when_and_how_far() -> None:
     assert "0.505 m" in finding.message and "+6.0 s" in finding.message
 
 
+def test_a_map_hung_under_odom_stepping_is_told_a_correction_not_odometry_that_must_not_jump() -> None:
+    """A real AGV's laser localizer (the Jarvis, ros1-jarvis-tricycle-agv-...-2014-bag) hangs its map
+    ``map_contours_nav`` under odom, a leaf that steps with each correction: its jump's hint said REP 105 wants
+    odom -> base continuous, of a frame that is no base. The robot's own odom -> base_link keeps that hint."""
+
+    def contours(stamp: int) -> list[Transform]:
+        return [
+            scenes._t(
+                "odom", "map_contours_nav", stamp, 0.01 * scenes._s(stamp) + (0.3 if scenes._s(stamp) >= 6 else 0)
+            )
+        ]
+
+    leaf = check(scenes.recording(scenes.healthy(wheels=[*scenes.wheels(), *scenes.periodic("/nav", 20, contours)])))
+    (finding,) = leaf.findings
+    assert (finding.code, finding.frames) == ("jump", ("odom", "map_contours_nav")), finding
+    assert "publish it as map -> odom" in finding.hint and "odom -> base continuous" not in finding.hint, finding.hint
+    reset = [f for f in check(scenes.recording(scenes.PROBLEMS["jump"].make())).findings if f.code == "jump"]
+    assert reset and all("odom -> base continuous" in f.hint for f in reset), reset
+
+
 def test_motion_from_rest_fast_turns_and_a_gap_are_explained_by_the_edge_s_own_motion() -> None:
     seconds = np.arange(0, 20, 0.02)
     speed = np.where(seconds < 5, 0.0, 2.0)  # standing still, then off at 2 m/s

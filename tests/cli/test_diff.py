@@ -62,6 +62,35 @@ def test_diff_json_lists_each_difference_with_its_figures(tfx: Tfx, runs: dict[s
     assert by_change["rate"]["rate_change"] == pytest.approx(-0.6, abs=0.01)
 
 
+def _mount_on_tf(laser_y: float) -> list[TfMessage]:
+    """A healthy run whose laser mount is sent on /tf at 50 Hz, never changing (robot_state_publisher's fixed
+    joints before /tf_static, the real 2014 Guardian's), at y = ``laser_y``; its wheel turns."""
+
+    def mount(stamp: int) -> list[Transform]:
+        return [Transform.from_rpy((0.018, laser_y, 0.06), (0.0, 0.0, 0.0), stamp, "base_link", "front_laser")]
+
+    return healthy(wheels=[*periodic("/rsp", 20, _turning_wheel), *periodic("/rsp", 50, mount)])
+
+
+def _turning_wheel(stamp: int) -> list[Transform]:
+    return [
+        Transform.from_rpy((0.0, 0.3, 0.0), (0.0, 0.05 * (stamp - START) / MS / 1000, 0.0), stamp, "base_link", "wheel")
+    ]
+
+
+def test_diff_says_how_far_a_mount_sent_on_tf_moved_never_changing_in_either(tfx: Tfx, tmp_path: Path) -> None:
+    """The real Guardian of September and December 2014 (ros1-robotnik-guardian-...-2014-bag beside its
+    guardian_3.bag): its front laser's fixed joint, on /tf at 50 Hz, sat 40 mm apart and diff said nothing, as it
+    compared the values of /tf_static's edges only. A turning joint is no value to compare."""
+    before = write(tmp_path, "september", BagFormat.ros1, _mount_on_tf(0.0))
+    after = write(tmp_path, "december", BagFormat.ros1, _mount_on_tf(0.04))
+    result = tfx("diff", before, after)
+    assert result.code == 1, result.stdout
+    assert "base_link -> front_laser (on /tf, never changing in either) moved by 40.0 mm and 0.00°" in result.stdout
+    assert "1 difference beyond the tolerances" in result.stdout, result.stdout
+    assert tfx("diff", before, write(tmp_path, "again", BagFormat.ros1, _mount_on_tf(0.0))).code == 0
+
+
 def _two_static_publishers(laser_first: bool) -> list[TfMessage]:
     """A healthy run whose /tf_static also carries a driver's laser-only message at x = 0.3 m beside
     robot_state_publisher's 0.2 m, 4 ms apart: the driver's first (tf2 keeps 0.2) or last (tf2 keeps 0.3)."""

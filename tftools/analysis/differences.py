@@ -17,7 +17,7 @@ class Change(str, enum.Enum):
     added = "added"  # in B, not in A
     reparented = "reparented"
     static = "static"  # static in one, moving in the other
-    moved = "moved"  # a static edge's value, beyond the tolerances
+    moved = "moved"  # a static edge's value (or a never changing one's on /tf), beyond the tolerances
     reordered = "reordered"  # the same static values received in another order: tf2 keeps another one
     rate = "rate"  # a moving edge's rate, beyond the tolerance
     clocks = "clocks"  # a moving edge's stamps on more time bases in one than in the other
@@ -27,7 +27,7 @@ class Change(str, enum.Enum):
 @dataclass(frozen=True)
 class Difference:
     """One frame's difference; ``before`` is the frame in A, ``after`` in B (None where absent).
-    ``translation_mm``/``rotation_deg`` say how far a static edge moved, ``rate_change`` the
+    ``translation_mm``/``rotation_deg`` say how far a static edge (or one held on /tf) moved, ``rate_change`` the
     rate's relative change (B / A - 1, -1 where B has no rate; None where A has none; whether it differs is
     ``rates_apart``'s)."""
 
@@ -75,6 +75,10 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
             found.append(Difference(Change.rate, name, before, after, rate_change=change))
         if before.clocks is not None and after.clocks is not None and before.clocks != after.clocks:
             found.append(Difference(Change.clocks, name, before, after))
+        if before.held is not None and after.held is not None:  # a mount on /tf at 50 Hz moved as much as on /tf_static
+            mm, deg = _apart(before.held.translation, before.held.rotation, after.held.translation, after.held.rotation)
+            if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
+                found.append(Difference(Change.moved, name, before, after, translation_mm=mm, rotation_deg=deg))
     known = before.publishers is not None and after.publishers is not None
     if known and set(before.publishers or ()) != set(after.publishers or ()):
         found.append(Difference(Change.publishers, name, before, after))
@@ -149,6 +153,11 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"/tf_static, in another order (at: seconds into each recording): {a} {_received(before)}; {b} "
             f"{_received(after)}. tf2 keeps the last received, so the order alone makes the kept values "
             f"{d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart"
+        )
+    if d.change is Change.moved and before.held is not None and after.held is not None:
+        return (
+            f"{edge} (on /tf, never changing in either) moved by {d.translation_mm:.1f} mm and "
+            f"{d.rotation_deg:.2f}°: {_value(before.held)} in {a}, {_value(after.held)} in {b}"
         )
     if d.change is Change.moved:
         several = "".join(

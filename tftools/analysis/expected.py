@@ -69,6 +69,9 @@ class FrameShape:
     #: The time bases a moving edge's stamps are on (``FrameSummary.clocks``); None where not known (a tree file,
     #: a URDF).
     clocks: int | None = None
+    #: A moving edge's one value where it never changed (``held``): a fixed transform sent on /tf (ROS 1's
+    #: robot_state_publisher before /tf_static), compared between two recordings as a static edge's value is.
+    held: StaticValue | None = None
 
 
 @dataclass(frozen=True)
@@ -111,8 +114,19 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             received=received,
             on_tf_hz=_on_tf_hz(hist) if summary.static and hist is not None else 0.0,
             clocks=summary.clocks,
+            held=held(hist) if not summary.static and hist is not None else None,
         )
     return TreeShape(frames, " + ".join(recording.paths))
+
+
+def held(hist: EdgeHistory) -> StaticValue | None:
+    """A moving edge's one value, with how many samples from its latest parent carried it, where there are two
+    or more and they never change; None otherwise (it moves, or was seen once)."""
+    values = hist.values[hist.parents == hist.latest_parent]
+    if len(values) < 2 or not bool((values == values[0]).all()):
+        return None
+    translation, rotation = _value(values[0])
+    return StaticValue(translation, rotation, None, len(values))
 
 
 def _on_tf_hz(hist: EdgeHistory) -> float:

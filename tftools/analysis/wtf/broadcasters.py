@@ -50,8 +50,12 @@ APART_DEG = 1.0
 #: A sample that went out and came back is a motion's turning point when the one two before it is this many
 #: times its step away: the value came on from further back, as a motion does, not from where it returns to.
 TURNING = 1.5
-#: Two identical broadcasters: at least this share of an edge's stamps sent twice (or more).
+#: Two identical broadcasters: at least this share of an edge's stamps sent twice (or more), each about as many
+#: times (the most at most this many times the fewest): k publishers send each stamp k times, where one publisher
+#: whose stamp does not advance sends a stamp as often as it publishes before its clock ticks (2 to 24 times: a
+#: Gazebo ground truth stamped from a coarse simulation clock).
 TWINS_SHARE = 0.5
+TWINS_SPREAD = 2
 #: A copy that comes at least this share of the stream's usual interval after the sample before it is a
 #: re-send on the publisher's own timer; one that comes sooner, a second publisher's copy of the same input.
 RESEND_SHARE = 0.5
@@ -194,6 +198,11 @@ class Repeats:
         """Repeats as long after the sample before them as new samples come: one publisher's timer."""
         return self.apart >= RESEND_SHARE * self.interval > 0
 
+    @property
+    def alike(self) -> bool:
+        """Each stamp sent again about as many times (``TWINS_SPREAD``): copies from a number of publishers."""
+        return self.times[1] <= TWINS_SPREAD * self.times[0]
+
     def said(self, whose: str = "its") -> str:
         """ "182 of its 598 stamps arrived again (2 times each)"."""
         low, high = self.times
@@ -278,7 +287,7 @@ def _infer(scene: Scene) -> list[Finding]:
             if repeats.resent and repeats.newest >= NEWEST_SHARE:
                 found.append(_resent(scene, frames, mine, repeats))
                 continue
-            if not repeats.resent and repeats.stamps_again >= TWINS_SHARE * repeats.stamps:
+            if not repeats.resent and repeats.stamps_again >= TWINS_SHARE * repeats.stamps and repeats.alike:
                 twins.setdefault(scene.authorities_of(mine), []).append((frames, mine, repeats))
                 continue
         new = mine[~repeats.again]  # a publisher re-sending an old stamp is one publisher, not a turn

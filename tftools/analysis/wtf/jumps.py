@@ -359,7 +359,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
             found, when = _back_and_forth(samples.values, found, when)
             if not len(found):
                 continue
-        continuous = base_name(samples.parent) == ODOM
+        continuous = base_name(samples.parent) == ODOM and _carries_robot(scene, samples.child)
         why = (
             "REP 105 wants odom -> base continuous (odometry that never jumps): a reset odometry, or a "
             "localizer or GPS fused into odom, makes everything planned in odom leap; publish corrections as "
@@ -393,6 +393,13 @@ def jump(scene: Scene) -> Iterator[Finding]:
             why,
             when,
         )
+
+
+def _carries_robot(scene: Scene, frame: str) -> bool:
+    """Whether ``frame`` under odom is the robot's base, which REP 105 wants continuous: named so, or with frames
+    under it. Not a leaf of another name: a real AGV's laser localizer hangs its map (``map_contours_nav``) under
+    odom, whose steps are corrections."""
+    return base_name(frame) in BASES or bool(scene.tree.children.get(frame))
 
 
 def _back_and_forth(values: FloatArray, found: Jumps, when: Int64Array) -> tuple[Jumps, Int64Array]:

@@ -1,0 +1,78 @@
+"""What corpus33's recordings showed, fixed on the recording that showed it; the designed reproduction is beside
+the code's own tests (tests/analysis/test_wtf_hazards.py)."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
+from tests.corpus.fetch import Recording, load_manifest
+
+_, RECORDINGS = load_manifest()
+BY_ID = {r.id: r for r in RECORDINGS}
+
+Corpus = Callable[[Recording], Path]
+
+JARVIS = "ros1-jarvis-tricycle-agv-real-nav350-reflector-localisation-map-odom-no-callerid-2014-bag"
+
+
+def test_a_localizers_map_under_odom_is_no_odometry_told_to_stay_continuous(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The Jarvis AGV's NAV350 localizer hangs map_contours_nav under odom, re-sent at 208 Hz and stepping with each
+    correction (0.31 m once): the jump's hint said REP 105 wants odom -> base continuous, of a frame that is no
+    base; it now says a correction belongs on map -> odom."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[JARVIS]), "--format", "json").stdout)["bags"]
+    (finding,) = [f for f in bag["findings"] if f["code"] == "jump"]
+    assert finding["frames"][:2] == ["odom", "map_contours_nav"], finding
+    assert "publish it as map -> odom" in finding["hint"] and "odom -> base" not in finding["hint"], finding["hint"]
+
+
+GUARDIAN_DECEMBER = "ros1-robotnik-guardian-real-tilting-laser-pallet-robot-clock-7.6-s-ahead-no-callerid-2014-bag"
+GUARDIAN_SEPTEMBER = "ros1-robotnik-guardian-real-lab-run-empty-tf-messages-rsp-post-dated-no-callerid-2014-bag"
+
+
+def test_diff_of_one_robot_three_months_apart_says_how_far_its_mounts_on_tf_moved(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The Guardian of December and September 2014 sends its fixed joints on /tf at 50 Hz, never changing: base_link
+    sits 111 mm higher in December, the front laser 40 mm to the side, the tracks turned 180 degrees; diff said only
+    that the four wheels were lost, as it compared the values of /tf_static's edges only."""
+    result = tfx("diff", corpus(BY_ID[GUARDIAN_DECEMBER]), corpus(BY_ID[GUARDIAN_SEPTEMBER]), "--format", "json")
+    by_frame = {d["frame"]: d for d in json.loads(result.stdout)["differences"]}
+    moved = {frame: (round(d["translation_mm"], 1), round(d["rotation_deg"], 1)) for frame, d in by_frame.items()}
+    assert {f: m for f, m in moved.items() if by_frame[f]["change"] == "moved"} == {
+        "base_link": (111.0, 0.0),
+        "hokuyo_frontal_laser_link": (40.0, 0.0),
+        "left_track": (0.0, 180.0),
+        "right_track": (0.0, 180.0),
+    }, by_frame
+    assert {f for f, d in by_frame.items() if d["change"] == "lost"} == {
+        "back_left_wheel",
+        "back_right_wheel",
+        "front_left_wheel",
+        "front_right_wheel",
+    }
+    assert result.code == 1
+
+
+SHIP_SIM = "ros1-gazebo-guardian-ship-interior-record-times-from-zero-ground-truth-repeated-stamps-no-callerid-2014-bag"
+
+
+def test_a_ground_truth_repeating_its_stamp_2_to_24_times_is_one_publisher_not_twins(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The Guardian's Gazebo model: base_footprint -> map_ground_truth comes ~624 times a second on 1,616 stamps
+    (one /tf connection, no callerid), 890 of them sent 2 to 24 times with other values. wtf said 'arrives twice
+    ... two identical publishers, it seems' and no time_backwards; it is one publisher whose stamp does not advance,
+    and ROS 1's tf2 drops the 11,354 repeats."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[SHIP_SIM]), "--format", "json").stdout)["bags"]
+    said = {(f["code"], tuple(f["frames"][:2])): f for f in bag["findings"]}
+    assert ("multiple_authorities", ("base_footprint", "map_ground_truth")) not in said, said.keys()
+    repeated = said[("time_backwards", ("base_footprint", "map_ground_truth"))]
+    assert "11354 transforms with a stamp it had already sent" in repeated["message"], repeated["message"]
