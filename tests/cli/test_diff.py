@@ -164,3 +164,19 @@ def test_wtf_init_and_tolerances_refuse_what_cannot_work(tfx: Tfx, runs: dict[st
     assert tfx("wtf", runs["good"], "--tolerance-mm", "2").code == 2
     missing = tfx("wtf", "--expect", "nope.yaml", runs["good"])
     assert missing.code == 2 and "nope.yaml: no such file" in missing.stderr
+
+
+def test_a_recording_without_transforms_is_an_empty_tree_not_unusable(
+    tfx: Tfx, runs: dict[str, Path], tmp_path: Path
+) -> None:
+    """`tfx diff A A` of a recording holding no transforms (the corpus's ten no-tf recordings) exited 2 'no
+    transforms': no differences, exit 0; against a recording with tf, every frame of that one differs."""
+    empty = write(
+        tmp_path, "odom_only", BagFormat.rosbag2_sqlite3, [TfMessage("/odom_tf", START + i, [], "/x") for i in range(3)]
+    )
+    itself = tfx("diff", empty, empty)
+    assert itself.code == 0, itself.stderr
+    assert f"A: {empty} (0 frames: no transforms on /tf, /tf_static)" in itself.stdout
+    assert "no differences beyond the tolerances" in itself.stdout
+    against = json.loads(tfx("diff", runs["good"], empty, "--format", "json").stdout)
+    assert against["exit_code"] == 1 and {d["change"] for d in against["differences"]} == {"lost"}

@@ -12,6 +12,7 @@ from tftools.analysis.description import described_differences, description_shap
 from tftools.analysis.differences import Difference, compare
 from tftools.analysis.expected import Tolerances, TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
+from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import Recording, read_recording
 from tftools.sources.storage.locations import METADATA, is_url
 from tftools.sources.urdf import read_urdf
@@ -83,4 +84,13 @@ def is_urdf(location: str) -> bool:
 
 
 def _shape(location: str, read: Read) -> TreeShape:
-    return read_tree(Path(location)) if is_tree_file(location) else shape_of(read([location]))
+    """The tree of a tree file or a recording; a recording that holds no transforms (read whole, without damage)
+    has an empty one, so that it differs from a tree by every frame of that tree, and not from itself."""
+    if is_tree_file(location):
+        return read_tree(Path(location))
+    try:
+        return shape_of(read([location]))
+    except NoTransformsError as error:
+        if error.cause != "absent":  # damaged, or of a type not read: unusable
+            raise
+        return TreeShape({}, location, empty=f"no transforms on {', '.join(error.topics)}")
