@@ -84,13 +84,14 @@ def is_urdf(location: str) -> bool:
 
 
 def _shape(location: str, read: Read) -> TreeShape:
-    """The tree of a tree file or a recording; a recording that holds no transforms (read whole, without damage)
-    has an empty one, so that it differs from a tree by every frame of that tree, and not from itself."""
+    """The tree of a tree file or a recording; a recording that holds no transforms (read whole, without damage,
+    and none on topics not read: a --topic that missed /tf is an error) has an empty one, so that it differs from
+    a tree by every frame of that tree, and not from itself."""
     if is_tree_file(location):
         return read_tree(Path(location))
     try:
         return shape_of(read([location]))
     except NoTransformsError as error:
-        if error.cause != "absent":  # damaged, or of a type not read: unusable
+        if error.cause != "absent" or error.carriers:  # damaged, of a type not read, or on other topics
             raise
         return TreeShape({}, location, empty=f"no transforms on {', '.join(error.topics)}")
