@@ -180,6 +180,10 @@ def test_a_recording_without_transforms_is_an_empty_tree_not_unusable(
     assert itself.code == 0, itself.stderr
     assert f"A: {bag} (0 frames: no transforms on /tf, /tf_static)" in itself.stdout
     assert "no differences beyond the tolerances" in itself.stdout
+    init = tfx("wtf", "--init", bag)  # its tree file: no frames, said so
+    assert init.code == 0 and "frames: {}" in init.stdout and "the tree file has no frames" in init.stderr
+    (tmp_path / "tree.yaml").write_text(init.stdout)
+    assert tfx("diff", bag, tmp_path / "tree.yaml").code == tfx("diff", tmp_path / "tree.yaml", bag).code == 0
     against = json.loads(tfx("diff", runs["good"], bag, "--format", "json").stdout)
     assert against["exit_code"] == 1 and {d["change"] for d in against["differences"]} == {"lost"}
     elsewhere = [TfMessage("/odom_tf", START + i, [], "/x") for i in range(3)]

@@ -80,13 +80,21 @@ def test_a_recording_without_transforms_has_no_difference_from_itself(
     recording_id: str,
     corpus: Corpus,
     tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
 ) -> None:
-    """`tfx diff A A` exited 2 'no transforms on /tf, /tf_static' for each: now an empty tree, said so, exit 0."""
+    """`tfx diff A A` and `tfx wtf --init A` exited 2 'no transforms on /tf, /tf_static' for each: now an empty
+    tree, said so; `tfx diff A tree.yaml` both ways no differences, exit 0; wtf's no_tf error unchanged."""
     path = corpus(BY_ID[recording_id])
     said = tfx("diff", path, path)
     assert said.code == 0, said.stderr
     assert f"A: {path} (0 frames: no transforms on /tf, /tf_static)" in said.stdout, said.stdout
     assert said.stdout.endswith("no differences beyond the tolerances (1 mm, 0.1°, rates 20%)\n")
+    init = tfx("wtf", "--init", path)
+    assert init.code == 0 and "frames: {}" in init.stdout, init.stderr
+    tree = tmp_path / "tree.yaml"
+    tree.write_text(init.stdout)
+    assert tfx("diff", path, tree).code == tfx("diff", tree, path).code == 0
+    assert tfx("wtf", "--expect", tree, path).code == 1  # no_tf, an error as before
 
 
 #: Recordings whose frames are stamped on clocks apart, with the span (s) their report's timelines should cover:

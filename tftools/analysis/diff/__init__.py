@@ -84,14 +84,16 @@ def is_urdf(location: str) -> bool:
 
 
 def _shape(location: str, read: Read) -> TreeShape:
-    """The tree of a tree file or a recording; a recording that holds no transforms (read whole, without damage,
-    and none on topics not read: a --topic that missed /tf is an error) has an empty one, so that it differs from
-    a tree by every frame of that tree, and not from itself."""
-    if is_tree_file(location):
-        return read_tree(Path(location))
+    return read_tree(Path(location)) if is_tree_file(location) else recorded_shape(lambda: read([location]), location)
+
+
+def recorded_shape(read: Callable[[], Recording], source: str) -> TreeShape:
+    """The shape of the recording ``read`` gives; an empty one (``TreeShape.empty`` says why) where it holds no
+    transforms (read whole, without damage, none on topics not read: a --topic that missed /tf is an error), so
+    that ``tfx diff`` finds it differs from a tree by every frame of that tree, and not from itself."""
     try:
-        return shape_of(read([location]))
+        return shape_of(read())
     except NoTransformsError as error:
         if error.cause != "absent" or error.carriers:  # damaged, of a type not read, or on other topics
             raise
-        return TreeShape({}, location, empty=f"no transforms on {', '.join(error.topics)}")
+        return TreeShape({}, source, empty=f"no transforms on {', '.join(error.topics)}")
