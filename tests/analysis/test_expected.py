@@ -228,6 +228,21 @@ def test_a_frame_that_became_static_differs(tmp_path: Path, expected_file: Path)
     assert "is moving at 20.0 Hz in" in findings[0].message and "static in this recording" in findings[0].message
 
 
+def test_a_static_edge_at_a_pitch_of_90_degrees_reads_back_the_same(tmp_path: Path) -> None:
+    """A tree file's rpy_deg at gimbal lock: tf2's angles for the UR flange's (-0.5, -0.5, -0.5, 0.5) were
+    (0, -90, 0), read back 90 degrees away, so that diff said a recording moved against its own tree file."""
+    flange = FrameShape("ur_flange", "ur_wrist_3_link", True, None, None, (0.0, 0.0, 0.0), (-0.5, -0.5, -0.5, 0.5))
+    tree = TreeShape({"ur_wrist_3_link": FrameShape("ur_wrist_3_link", None), "ur_flange": flange}, "ur")
+    path = tmp_path / "tree.yaml"
+    with path.open("w") as out:
+        write_tree(tree, out)
+    back = read_tree(path)
+    assert "rpy_deg: [-90.0, -90.0, 0.0]" in path.read_text()
+    rotation = back.frames["ur_flange"].rotation
+    assert rotation is not None and rotation_angle_deg(rotation, (-0.5, -0.5, -0.5, 0.5)) < 1e-6
+    assert compare(tree, back, back.tolerances) == [] and compare(back, tree, back.tolerances) == []
+
+
 def test_a_hand_written_file_with_its_own_tolerances_and_quaternions(tmp_path: Path) -> None:
     path = tmp_path / "tree.yaml"
     path.write_text(

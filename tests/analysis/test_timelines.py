@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.analysis.wtf_scenes import PROBLEMS, START, healthy, recording, sensor
+from tests.analysis.wtf_scenes import PROBLEMS, START, _t, amcl, healthy, map_odom, periodic, recording, sensor
+from tests.bags import TfMessage
 from tftools.analysis.edges import TimeWindow, edge_stats
 from tftools.analysis.filter import FilterQuery, filter_streams
 from tftools.analysis.monitor import monitor_buffer
@@ -15,6 +16,7 @@ from tftools.analysis.timelines import (
     MAX_CELLS,
     MIN_BINS,
     Bins,
+    EdgeTimeline,
     MonitorTrace,
     bins_over,
     edge_axis,
@@ -136,3 +138,34 @@ def test_many_timelines_share_a_bounded_number_of_bins() -> None:
     many = bins_over(0, 10 * NS_PER_S, rows=20_000)
     assert one.count == 500 and many.count == MIN_BINS
     assert bins_over(0, 10 * NS_PER_S, rows=1_000).count * 1_000 <= MAX_CELLS
+
+
+WEEK = 7 * 86400 * NS_PER_S
+AHEAD = 5 * 3600 * NS_PER_S
+
+
+def _timelines(messages: list[TfMessage]) -> tuple[Bins, dict[tuple[str, str], EdgeTimeline]]:
+    rec = recording(messages)
+    bins = bins_over(*edge_axis(rec.buffer, rec.timeline))
+    return bins, {e.key: e for e in edge_timelines(rec.buffer, rec.timeline, bins, 500 * MS)}
+
+
+def test_an_edge_whose_publishers_stamp_a_week_apart_is_drawn_over_the_recording_at_both_rates() -> None:
+    """The raspimouse replayed beside live gmapping: map -> odom from both, stamps a week apart. The axis spanned
+    the week (2000 s bins), the edge at 1.7e-06 Hz in most; now the 10 s recorded, at the two publishers' 20 Hz."""
+    replayed = periodic("/replay", 10, map_odom, stamp=lambda t: t - WEEK, phase=0.05)
+    bins, timelines = _timelines(healthy(amcl=sorted(amcl() + replayed, key=lambda m: m.record_time)))
+    assert bins.width * bins.count < 11 * NS_PER_S
+    odom = timelines[("map", "odom")]
+    assert odom.at_arrival and odom.samples.sum() == 200
+    middle = odom.rate_hz[bins.count // 4 : 3 * bins.count // 4]
+    assert middle == pytest.approx(np.full(len(middle), 20.0), rel=0.2)
+
+
+def test_a_frame_stamped_on_a_clock_hours_ahead_is_placed_at_its_arrival() -> None:
+    """The SAIL boat's IMU, broadcast from a machine 5.8 h ahead: by its stamps the axis ran 5.8 h for 15.9 s."""
+    imu = periodic("/imu_tf", 50, lambda stamp: [_t("plane", "imu_link", stamp)], stamp=lambda t: t + AHEAD)
+    bins, timelines = _timelines(healthy(wheels=imu))
+    assert bins.width * bins.count < 11 * NS_PER_S
+    assert timelines[("plane", "imu_link")].at_arrival and timelines[("plane", "imu_link")].samples.sum() == 500
+    assert not timelines[("odom", "base_link")].at_arrival

@@ -6,12 +6,15 @@ import dataclasses
 import json
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from tests.analysis.wtf_scenes import DELAY, FORMATS, MS, START, healthy, map_odom, periodic, statics, write
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Tfx
+from tests.cli.test_filter import scan, sensor_bags
+from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 
 
@@ -193,3 +196,34 @@ def test_wtf_init_and_tolerances_refuse_what_cannot_work(tfx: Tfx, runs: dict[st
     assert tfx("wtf", runs["good"], "--tolerance-mm", "2").code == 2
     missing = tfx("wtf", "--expect", "nope.yaml", runs["good"])
     assert missing.code == 2 and "nope.yaml: no such file" in missing.stderr
+
+
+def test_a_recording_without_transforms_is_an_empty_tree_not_unusable(
+    tfx: Tfx, runs: dict[str, Path], tmp_path: Path
+) -> None:
+    """`tfx diff A A` of a recording holding no transforms (the corpus's nine no-tf recordings) exited 2 'no
+    transforms': no differences, exit 0; against a recording with tf, every frame of that one differs. Transforms
+    on a topic not read (an /odom_tf of tf2_msgs) are still an error, with the --topic that reads them."""
+    bag = sensor_bags(tmp_path, [], _scans)["db3"]
+    itself = tfx("diff", bag, bag)
+    assert itself.code == 0, itself.stderr
+    assert f"A: {bag} (0 frames: no transforms on /tf, /tf_static)" in itself.stdout
+    assert "no differences beyond the tolerances" in itself.stdout
+    init = tfx("wtf", "--init", bag)  # its tree file: no frames, said so
+    assert init.code == 0 and "frames: {}" in init.stdout and "the tree file has no frames" in init.stderr
+    (tmp_path / "tree.yaml").write_text(init.stdout)
+    assert tfx("diff", bag, tmp_path / "tree.yaml").code == tfx("diff", tmp_path / "tree.yaml", bag).code == 0
+    against = json.loads(tfx("diff", runs["good"], bag, "--format", "json").stdout)
+    assert against["exit_code"] == 1 and {d["change"] for d in against["differences"]} == {"lost"}
+    elsewhere = [TfMessage("/odom_tf", START + i, [], "/x") for i in range(3)]
+    other = write(tmp_path, "odom_only", BagFormat.rosbag2_sqlite3, elsewhere)
+    refused = tfx("diff", other, other)
+    assert refused.code == 2 and "read with --topic /odom_tf" in refused.stderr, refused.stderr
+
+
+def _scans(store: Any) -> list[tuple[str, str, int, object]]:
+    """Three laser scans, a second apart: a recording without tf."""
+    return [
+        ("/scan", "sensor_msgs/msg/LaserScan", t, scan(store, "laser", t))
+        for t in (START + NS_PER_S * i for i in (1, 2, 3))
+    ]

@@ -125,6 +125,17 @@ def test_urdf_origin_is_fixed_axis_roll_pitch_yaw(tfx: Tfx, parent: str, child: 
     _same(Transform.from_rpy(tuple(xyz), tuple(rpy)), echoed, 1e-9)  # type: ignore[arg-type]  # lists of 3
 
 
+def test_urdf_origin_at_a_pitch_of_90_degrees_is_the_rotation(tfx: Tfx, tmp_path: Path) -> None:
+    """A UR flange's (-0.5, -0.5, -0.5, 0.5): tf_echo's angles (0, -90, 0) are a rotation 90 degrees away; the
+    joint pasted into a URDF must make the transform again."""
+    added = _pasted(tfx, tmp_path, "base_link", "0", "0", "0", "-0.5", "-0.5", "-0.5", "0.5", "base_link", "pasted")
+    joint = tfx("echo", "base_link", "pasted", "-b", tmp_path / "pasted_0.bag", "--format", "urdf").stdout
+    found = ET.fromstring(joint).find("origin")
+    assert found is not None
+    rpy = [float(v) for v in found.get("rpy", "").split()]
+    _same(Transform.from_rpy((0.0, 0.0, 0.0), (rpy[0], rpy[1], rpy[2])), added, 1e-9)
+
+
 def test_urdf_rpy_is_what_ros_makes_of_it(tfx: Tfx, tf2_available: None) -> None:
     """ROS 1's own tf.transformations reads the rpy with static axes x, y, z, as URDF defines it."""
     bag = SAMPLE_BAGS["ros1"]

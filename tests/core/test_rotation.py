@@ -40,6 +40,27 @@ def test_rpy_at_gimbal_lock_puts_everything_in_roll() -> None:
     assert yaw == 0.0
 
 
+#: Rotations at a pitch of +-90 degrees, where tf2's getRPY loses part of the rotation: the UR flange's
+#: (ur_wrist_3_link -> ur_flange, rpy "0 -pi/2 -pi/2" in its URDF), and a half turn about y and x together.
+LOCKED = [(-0.5, -0.5, -0.5, 0.5), (0.5, -0.5, 0.5, 0.5), (math.sqrt(0.5), 0.0, math.sqrt(0.5), 0.0)]
+
+
+@pytest.mark.parametrize("q", LOCKED)
+def test_rpy_rebuilding_makes_the_rotation_again_where_tf2s_rpy_does_not(q: r.Quat) -> None:
+    assert angle_between(q, r.quat_from_rpy(*r.rpy_from_quat(q))) > math.radians(89)  # tf2's (tf_echo's) angles
+    assert angle_between(q, r.quat_from_rpy(*r.rpy_rebuilding(q))) < 1e-12
+    assert abs(r.rpy_rebuilding(q)[1]) == pytest.approx(math.pi / 2)
+
+
+def test_rpy_rebuilding_is_tf2s_rpy_away_from_the_lock_and_exact_near_it() -> None:
+    for q in QUATS:
+        assert r.rpy_rebuilding(q) == pytest.approx(r.rpy_from_quat(q), abs=1e-12)
+    for roll, yaw in rng.uniform(-3.1, 3.1, (200, 2)):
+        for pitch in (math.pi / 2, -math.pi / 2, math.pi / 2 - 1e-9, -math.pi / 2 + 1e-7):
+            q = r.quat_from_rpy(roll, pitch, yaw)
+            assert angle_between(q, r.quat_from_rpy(*r.rpy_rebuilding(q))) < 1e-7
+
+
 def test_vectorized_forms_equal_the_rotation_matrices() -> None:
     a, b = np.array(QUATS[:-1]), np.array(QUATS[1:])
     v = rng.normal(size=(len(a), 3))

@@ -7,7 +7,7 @@ import math
 from dataclasses import dataclass
 
 from tftools.analysis.expected import FrameShape, StaticValue, Tolerances, TreeShape
-from tftools.core.rotation import Quat, Vec3, rpy_from_quat
+from tftools.core.rotation import Quat, Vec3, rpy_rebuilding
 
 
 class Change(str, enum.Enum):
@@ -215,7 +215,7 @@ def _value(f: FrameShape | StaticValue) -> str:
     if f.translation is None or f.rotation is None:
         return "unknown"
     xyz = ", ".join(f"{v:.4f}" for v in f.translation)
-    rpy = ", ".join(f"{round(math.degrees(v), 2) + 0.0:.2f}" for v in rpy_from_quat(f.rotation))  # no -0.00
+    rpy = ", ".join(f"{round(math.degrees(v), 2) + 0.0:.2f}" for v in rpy_rebuilding(f.rotation))  # no -0.00
     return f"xyz [{xyz}] m rpy [{rpy}]°"
 
 

@@ -82,6 +82,8 @@ class TreeShape:
     frames: dict[str, FrameShape]
     source: str
     tolerances: Tolerances = Tolerances()
+    #: Why a recording's tree has no frame: it holds no transforms on the topics read (else "").
+    empty: str = ""
 
 
 def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:

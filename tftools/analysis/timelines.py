@@ -96,6 +96,7 @@ class EdgeTimeline(Edge):
     delay_max: FloatArray
     pauses: tuple[tuple[int, int], ...]
     reparentings: tuple[Reparenting, ...]
+    unplaced: bool = False  # on a clock beside the axis's that no arrival places (``_unplaced``): no samples drawn
 
 
 @dataclass(frozen=True)
@@ -114,7 +115,7 @@ def edge_axis(buffer: Buffer, timeline: Timeline) -> tuple[int, int]:
     spans = [
         (int(axis[0]), int(axis[-1]))
         for child, hist in buffer.histories()
-        if not hist.static and len(hist)
+        if not hist.static and len(hist) and not _unplaced(timeline, child)
         for axis in [_axis(timeline, child, hist.stamps, hist.record_times)]
     ]
     return _hull(spans) or (timeline.tf_start, timeline.tf_end)
@@ -137,11 +138,31 @@ def edge_timelines(
 
 
 def _axis(timeline: Timeline, child: str, stamps: Int64Array, records: Int64Array) -> Int64Array:
-    """Where samples sit on the axis: their stamps, or their arrival where the frame is on another clock
-    (made non-decreasing, as stamps are)."""
-    if child not in timeline.off_reference:
+    """Where samples sit on the axis: their stamps, or their arrival where the frame is on another clock (made
+    non-decreasing, as stamps are); where its stamps are on several, those off its main clock at their arrival,
+    in order among the others. By stamps, a replay's map -> odom beside a live one's, a week apart, spread the
+    raspimouse's 54 s over a 7-day axis of 2000 s bins (the edge at 1.7e-06 Hz in most), the SAIL boat's IMU on a
+    clock 5.8 h ahead its 15.9 s over 5.8 h."""
+    if child in timeline.on_several_bases:
+        main = next(e.offset_record for e in timeline.edges if e.child == child)
+        elsewhere = np.abs(records - stamps - main) > timeline.same_clock
+        return np.sort(np.where(elsewhere, timeline.arrival_on_stamps(stamps, records), stamps))
+    if not _at_arrival(timeline, child):
         return stamps
     return np.maximum.accumulate(timeline.arrival_on_stamps(stamps, records)) if len(stamps) else stamps
+
+
+def _unplaced(timeline: Timeline, child: str) -> bool:
+    """Whether a frame is stamped on a clock beside the tf span's where no time of arrival places it there (no
+    reference: the logistic cobot's detections on the wall clock beside its simulated arm, record times all 0,
+    stretched the axis over 55 years)."""
+    return child in timeline.beside_span and not timeline.places_arrivals
+
+
+def _at_arrival(timeline: Timeline, child: str) -> bool:
+    """Whether a frame's samples sit on the axis at their arrival: stamped on another clock than the reference,
+    or beside the tf span's."""
+    return child in timeline.off_reference or child in timeline.beside_span
 
 
 def _timeline(
@@ -155,10 +176,13 @@ def _timeline(
     reparentings: tuple[Reparenting, ...],
 ) -> EdgeTimeline:
     """The timeline of ``hist``'s samples ``mine`` (those under ``parent``)."""
-    if hist.static:  # latched once, stamped at any time (often 0): nothing to place on the axis
+    unplaced = _unplaced(timeline, child)
+    if hist.static or unplaced:  # latched once, stamped at any time (often 0), or on no moment of the axis
         nothing = np.full(bins.count, np.nan)
         none = np.zeros(bins.count, np.int64)
-        return EdgeTimeline(parent, child, True, False, none, nothing, nothing, nothing, (), reparentings)
+        return EdgeTimeline(
+            parent, child, hist.static, False, none, nothing, nothing, nothing, (), reparentings, unplaced
+        )
     stamps, records = hist.stamps[mine], hist.record_times[mine]
     axis = _axis(timeline, child, stamps, records)
     where = bins.index(axis)
@@ -166,7 +190,7 @@ def _timeline(
     mean, largest = _delays(timeline, child, hist, mine, where, bins.count)
     _, _, paused = pause_rows(stamps, pause_floor, record_span(records))
     spans = tuple((int(axis[i]), int(axis[i + 1])) for i in paused.tolist())
-    at_arrival = child in timeline.off_reference
+    at_arrival = _at_arrival(timeline, child) or child in timeline.on_several_bases
     rate = local_rate(axis, bins)
     return EdgeTimeline(parent, child, False, at_arrival, samples, rate, mean, largest, spans, reparentings)
 

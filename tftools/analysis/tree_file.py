@@ -23,7 +23,7 @@ from typing import IO, Any
 
 from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
 from tftools.core.errors import TfToolsError
-from tftools.core.rotation import Quat, Vec3, quat_from_rpy, rpy_from_quat
+from tftools.core.rotation import Quat, Vec3, quat_from_rpy, rpy_rebuilding
 from tftools.sources.user_files import NotAFileError, UserFileError, load, number
 
 #: How far a rotation's length may be from 1 for it to be taken (and made unit).
@@ -82,7 +82,7 @@ def _entry(f: FrameShape) -> dict[str, Any]:
         entry["rate_hz"] = round(f.rate_hz, 3)
     if f.translation is not None and f.rotation is not None:
         entry["translation"] = [_rounded(v) for v in f.translation]
-        entry["rpy_deg"] = [_rounded(math.degrees(a)) for a in rpy_from_quat(f.rotation)]
+        entry["rpy_deg"] = [_rounded(math.degrees(a)) for a in rpy_rebuilding(f.rotation)]
     if f.publishers is not None:
         entry["publishers"] = list(f.publishers)
     return entry

@@ -33,7 +33,8 @@ def command(
     A or B may be a tree file ([cyan]tfx wtf --init good.bag > tree.yaml[/]); its tolerances count
     unless given here. A or B may be a URDF file (.urdf): its links, fixed joints as static edges at
     their origins ([cyan]tfx diff robot.urdf run.bag[/]). Publishers are compared where both sides name
-    them (ROS 1 bags, tree files written from them); rates where A's edge has one.
+    them (ROS 1 bags, tree files written from them); rates where A's edge has one. A recording holding no
+    transforms is an empty tree (it says so): it differs from a tree by every frame of that tree.
 
     Exit codes: 0 no differences beyond the tolerances; 1 differences; 2 unusable input.
 

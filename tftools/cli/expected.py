@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from tftools.cli import defaults
-from tftools.cli.common import stdout
+from tftools.cli.common import stdout, warn
 from tftools.cli.errors import UsageError
 from tftools.cli.reading import open_recording
 from tftools.core.semantics import Semantics
@@ -68,10 +68,12 @@ def write_init(bags: Sequence[str], topics: Sequence[str] | None, semantics: Sem
     """``tfx wtf --init``: the tree of the bags (one recording) as a tree file, on stdout."""
     if not bags:
         raise UsageError("--init needs a recording", "e.g. tfx wtf --init good_run.bag > tree.yaml")
-    from tftools.analysis.expected import shape_of
+    from tftools.analysis.diff import recorded_shape
     from tftools.analysis.tree_file import write_tree
 
-    shape = shape_of(open_recording(bags, topics, semantics))
+    shape = recorded_shape(lambda: open_recording(bags, topics, semantics), " + ".join(bags))
+    if shape.empty:  # a tree of no frame: what the recording holds, as tfx diff compares it
+        warn(f"{shape.source}: {shape.empty}: the tree file has no frames")
     if len(shape.frames) > MAX_INIT_FRAMES:
         raise UsageError(
             f"--init: the recording has {len(shape.frames):,} frames, more than the {MAX_INIT_FRAMES:,} of a tree"

@@ -96,6 +96,25 @@ def rpy_from_quat(q: Quat) -> Vec3:
     return (roll, pitch, yaw)
 
 
+#: Below this cosine of the pitch, roll and yaw are rounding noise apart (a pitch of 90 degrees in floats).
+_LOCKED = 1e-8
+
+
+def rpy_rebuilding(q: Quat) -> Vec3:
+    """Roll, pitch, yaw from which ``quat_from_rpy`` (a URDF ``<origin rpy>``, setRPY) makes ``q`` again. tf2's
+    getRPY (``rpy_from_quat``, as tf_echo prints) takes a pitch of +-90 degrees from a matrix term rounded to 1
+    and a roll from two terms that are then noise, losing the rest of the rotation: a UR flange's (-0.5, -0.5,
+    -0.5, 0.5) said (0, -90, 0), a rotation 90 degrees away. Here the pitch's cosine decides, and at +-90 yaw is
+    0 and the roll carries what roll and yaw share there."""
+    m = matrix_from_quat(q)
+    cosine = math.hypot(m[0][0], m[1][0])
+    if cosine >= _LOCKED:
+        return (math.atan2(m[2][1], m[2][2]), math.atan2(-m[2][0], cosine), math.atan2(m[1][0], m[0][0]))
+    if m[2][0] < 0:  # pitch +90: the matrix holds roll - yaw
+        return (math.atan2(m[0][1], m[1][1]), math.pi / 2, 0.0)
+    return (math.atan2(-m[0][1], m[1][1]), -math.pi / 2, 0.0)  # pitch -90: roll + yaw
+
+
 def quat_from_matrix(m: Matrix3) -> Quat:
     """The quaternion of a rotation matrix (rows first): tf2's ``Matrix3x3::getRotation``."""
     trace = m[0][0] + m[1][1] + m[2][2]

@@ -16,7 +16,8 @@ from tftools.render.escape import printable
 def write_text(a: TreeShape, b: TreeShape, differences: list[Difference], tolerances: Tolerances, out: IO[str]) -> None:
     """Which is A and which B, each difference on its line, and a verdict naming the tolerances."""
     for label, tree in (("A", a), ("B", b)):
-        out.write(printable(f"{label}: {tree.source} ({len(tree.frames)} frames)") + "\n")
+        frames = f"0 frames: {tree.empty}" if tree.empty else f"{len(tree.frames)} frames"
+        out.write(printable(f"{label}: {tree.source} ({frames})") + "\n")
     for d in differences:
         out.write(printable(f"  {d.change.value:<11} {describe(d)}") + "\n")
     within = f"{tolerances.translation_mm:g} mm, {tolerances.rotation_deg:g}°, rates {tolerances.rate_percent:g}%"

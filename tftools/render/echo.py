@@ -12,6 +12,7 @@ from typing import IO, Any
 from xml.sax.saxutils import quoteattr
 
 from tftools.analysis.echo import EchoSeries
+from tftools.core.rotation import rpy_rebuilding
 from tftools.core.time import format_sec, to_sec
 from tftools.core.transform import Transform
 from tftools.render import jsonl
@@ -103,10 +104,12 @@ def _lookups(series: EchoSeries, out: IO[str]) -> Iterator[int]:
 
 def write_urdf(series: EchoSeries, out: IO[str]) -> None:
     """For each lookup, a fixed URDF joint from the target link to the source link: its ``<origin>``'s
-    ``rpy`` is URDF's (fixed-axis roll about x, then pitch about y, then yaw about z, radians)."""
+    ``rpy`` is URDF's (fixed-axis roll about x, then pitch about y, then yaw about z, radians), the angles that
+    make the rotation again (not tf_echo's, which lose it at a pitch of 90 degrees)."""
     parent, child = printable(series.target), printable(series.source)
     for row in _lookups(series, out):
-        xyz, rpy = " ".join(_exact(series.translations[row])), " ".join(_exact(series.rpy[row]))
+        qx, qy, qz, qw = (float(v) for v in series.rotations[row])
+        xyz, rpy = " ".join(_exact(series.translations[row])), " ".join(_exact(rpy_rebuilding((qx, qy, qz, qw))))
         out.write(f'<joint name={quoteattr(f"{parent}_to_{child}")} type="fixed">\n')
         out.write(f"  <parent link={quoteattr(parent)}/>\n  <child link={quoteattr(child)}/>\n")
         out.write(f'  <origin xyz="{xyz}" rpy="{rpy}"/>\n</joint>\n')

@@ -229,6 +229,8 @@ def _timelines(report: RecordingReport, rows: Sequence[int], origin: int) -> str
         about = _edge_about(stats.get(e.key), delays_known=report.delays_shown, other_clock=other_clock)
         if e.at_arrival:
             about += "; placed at arrival: stamped on another clock"
+        if e.unplaced:
+            about += "; not drawn: stamped on another clock, which no time of the recording places on this axis"
         parts.append(
             f'<div class="row edge" data-row="{row}"><div class="label"><b>{_esc(e.parent)} &#8594; {_esc(e.child)}'
             f'</b><small>{_esc(about)}</small></div><div class="plot"></div></div>'

@@ -337,6 +337,19 @@ class Timeline:
         against_clock = self.reference is Reference.CLOCK
         return frozenset(e.child for e in self.edges if not e.agrees(against_clock, self.same_clock))
 
+    @property
+    def on_several_bases(self) -> frozenset[str]:
+        """The frames whose stamps take turns between time bases (``EdgeClock.bases``: a replay's /tf beside a live
+        publisher's, a week apart), which no one stretch of stamps holds."""
+        return frozenset(e.child for e in self.edges if e.bases > 1)
+
+    @property
+    def beside_span(self) -> frozenset[str]:
+        """The frames stamped on a clock beside the tf span's (``other_clocks``), on the reference's time base or
+        not: a machine's 5.8 h ahead of the recorder's (the SAIL boat's EKF and IMU), a replay's a week behind."""
+        children = {e.child for e in self.edges}
+        return frozenset(f for other in self.other_clocks for f in other.frames if f in children)
+
     def within(self, same_clock: int) -> Timeline:
         """This recording's timeline (``timeline_of``'s) with another ``clock`` threshold (ns), its reference
         chosen again by it."""
@@ -418,9 +431,15 @@ class Timeline:
         a reference or is a replay; else their stamps, for without a reference no time of arrival is on the
         stamps' clock (``arrival`` is then the record clock, as a replay plays it: the JetAcker's 0.067x
         simulation arrived over 63.4 s of it, stamped over 4.25 s)."""
-        if self.reference is Reference.NONE and not self.replayed:
+        if not self.places_arrivals:
             return stamps
         return self.arrival(stamps, record_times)
+
+    @property
+    def places_arrivals(self) -> bool:
+        """Whether a time of arrival sits on the stamps' clock (``arrival_on_stamps``): with a reference, or in a
+        replay."""
+        return self.reference is not Reference.NONE or self.replayed
 
     def measurable(
         self, child: str, record_times: Int64Array, flags: UInt8Array, stamps: Int64Array | None = None

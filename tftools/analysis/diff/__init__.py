@@ -12,6 +12,7 @@ from tftools.analysis.description import described_differences, description_shap
 from tftools.analysis.differences import Difference, compare
 from tftools.analysis.expected import Tolerances, TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
+from tftools.sources.errors import NoTransformsError
 from tftools.sources.recording import Recording, read_recording
 from tftools.sources.storage.locations import METADATA, is_url
 from tftools.sources.urdf import read_urdf
@@ -83,4 +84,16 @@ def is_urdf(location: str) -> bool:
 
 
 def _shape(location: str, read: Read) -> TreeShape:
-    return read_tree(Path(location)) if is_tree_file(location) else shape_of(read([location]))
+    return read_tree(Path(location)) if is_tree_file(location) else recorded_shape(lambda: read([location]), location)
+
+
+def recorded_shape(read: Callable[[], Recording], source: str) -> TreeShape:
+    """The shape of the recording ``read`` gives; an empty one (``TreeShape.empty`` says why) where it holds no
+    transforms (read whole, without damage, none on topics not read: a --topic that missed /tf is an error), so
+    that ``tfx diff`` finds it differs from a tree by every frame of that tree, and not from itself."""
+    try:
+        return shape_of(read())
+    except NoTransformsError as error:
+        if error.cause != "absent" or error.carriers:  # damaged, of a type not read, or on other topics
+            raise
+        return TreeShape({}, source, empty=f"no transforms on {', '.join(error.topics)}")

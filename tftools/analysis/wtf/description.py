@@ -20,7 +20,7 @@ from tftools.analysis.description import (
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import declare, register
 from tftools.analysis.wtf.scene import Scene, and_joined, listed
-from tftools.core.rotation import Quat, Vec3, rpy_from_quat
+from tftools.core.rotation import Quat, Vec3, rpy_rebuilding
 from tftools.sources.urdf import Joint
 
 RSP = "robot_state_publisher"
@@ -43,7 +43,7 @@ def _about(joint: Joint) -> str:
 
 
 def _pose(xyz: Vec3, rotation: Quat) -> str:
-    rpy = ", ".join(f"{round(math.degrees(a), 2) + 0.0:.2f}" for a in rpy_from_quat(rotation))  # no -0.00
+    rpy = ", ".join(f"{round(math.degrees(a), 2) + 0.0:.2f}" for a in rpy_rebuilding(rotation))  # no -0.00
     return f"xyz [{', '.join(f'{v:.4f}' for v in xyz)}] m rpy [{rpy}]°"
 
 

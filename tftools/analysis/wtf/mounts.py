@@ -13,6 +13,7 @@ import numpy as np
 from tftools.analysis.differences import rotation_angle_deg
 from tftools.analysis.wtf.scene import Scene, and_joined
 from tftools.core.arrays import FloatArray
+from tftools.core.rotation import rpy_rebuilding
 from tftools.core.transform import Transform
 
 #: Sightings that place the camera frame further apart than this (m, or rad) do not show one fixed mount: a camera on
@@ -69,7 +70,7 @@ def mount_hint(mount: Mount, ros2: bool) -> str:
     publish, with its numbers."""
     t = mount.transform
     x, y, z = t.translation
-    roll, pitch, yaw = t.rpy()
+    roll, pitch, yaw = rpy_rebuilding(t.rotation)  # a command to paste: the angles that make the rotation
     angles = (("roll", roll), ("pitch", pitch), ("yaw", yaw))
     degrees = ", ".join(f"{name} {_num(math.degrees(a), 1)}" for name, a in angles)
     if ros2:
