@@ -25,3 +25,26 @@ def test_filter_of_named_topics_does_not_suggest_the_command_just_run(corpus: Co
         assert said.code == 2 and not said.stdout and len(said.stderr.strip().splitlines()) == 1, said.stderr
         assert why in said.stderr and "e.g. tfx filter" not in said.stderr, said.stderr
         assert "or none: tfx filter -b BAG checks every such topic" in said.stderr, said.stderr
+
+
+EVO = "evo-tf-example-bag"
+
+
+def test_echo_takes_tf_echo_s_rate_after_the_frames_and_refuses_node_arguments(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """evo's tf example bag (odom -> base_footprint at 10 Hz): ``tfx echo odom base_link 2`` as tf_echo takes its
+    echo_rate was 'Got unexpected extra argument(s) (2)'; it prints what --rate 2 does. ``_precision:=5`` (rosrun's
+    private parameter) and ``--ros-args -p use_sim_time:=true`` (ros2 run's) were an extra argument and 'No such
+    option': each is refused with the command line in tfx's options."""
+    path = corpus(BY_ID[EVO])
+    third = tfx("echo", "odom", "base_link", "2", "-b", path, "--end", "+2")
+    assert (
+        third.code == 0
+        and third.stdout == tfx("echo", "odom", "base_link", "-b", path, "--end", "+2", "-r", "2").stdout
+    )
+    assert third.stdout.count("At time ") == 5  # 1714741164.178 to .178 + 2 s, every 0.5 s
+    for given, fixed in (
+        (["_precision:=5"], "--precision 5"),
+        (["--ros-args", "-p", "use_sim_time:=true"], "--use-sim-time"),
+    ):
+        said = tfx("echo", "odom", "base_link", "-b", path, *given)
+        assert said.code == 2 and f"in tfx's options: tfx echo odom base_link -b {path} {fixed})" in said.stderr

@@ -56,6 +56,12 @@ def command(
         str, typer.Argument(help="The frame to express the transform in (tf_echo's first frame), e.g. map.")
     ],
     source: Annotated[str, typer.Argument(help="The frame whose pose is shown, e.g. base_link.")],
+    echo_rate: Annotated[
+        float | None,
+        typer.Argument(
+            metavar="RATE", help="Lines a second, as tf_echo's echo_rate after the frames: the same as --rate."
+        ),
+    ] = None,
     bags: options.Bags = None,
     rate: Annotated[
         float | None,
@@ -126,6 +132,7 @@ def command(
     from tftools.analysis.times import Stamp, parse_time_spec
 
     check_plot(plot, bags, force)
+    rate = _one_rate(echo_rate, rate)
     every = every or (plot is not None and rate is None and at is None)
     rate_given, rate = rate, rate_hz(1.0 if rate is None else rate)
     if wait is not None:
@@ -165,6 +172,13 @@ def command(
     lines.show(series, recording.buffer, print_lines=plot is None)  # on a bag, the picture instead of the lines
     lines.say_span(recording, query, series)
     exit_with(lines.done())
+
+
+def _one_rate(echo_rate: float | None, rate: float | None) -> float | None:
+    """The rate given after the frames (tf_echo's and tf2_echo's ``source target [echo_rate]``) or as --rate."""
+    if echo_rate is not None and rate is not None and echo_rate != rate:
+        raise UsageError(f"two rates: {echo_rate:g} after the frames and --rate {rate:g}", "give one of them")
+    return rate if echo_rate is None else echo_rate
 
 
 @dataclass(frozen=True)
