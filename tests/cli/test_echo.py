@@ -261,3 +261,19 @@ def test_a_node_argument_no_option_says_is_named(tfx: Tfx) -> None:
     )
     precision = tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "_precision:=6")  # tf_echo's, not tf_monitor's
     assert precision.code == 2 and "_precision:=6: no option of tfx monitor says it" in precision.stderr
+
+
+def test_a_slashed_frame_is_looked_up_without_it_and_said_so_on_ros2_data(tfx: Tfx) -> None:
+    """``/map``: ROS 1's tf_echo drops the slash, ROS 2's tf2 refuses it ("in tf2 frame_ids cannot start with a
+    '/'"). tfx looks up map on both; on ROS 2 data a hint says a ROS 2 node must ask for map."""
+    for fmt in ("ros1", "db3"):
+        args = ("-b", SAMPLE_BAGS[fmt], "--at", "+5")
+        slashed, plain = tfx("echo", "/map", "base_link", *args), tfx("echo", "map", "base_link", *args)
+        assert slashed.code == 0 and slashed.stdout == plain.stdout and not plain.stderr
+        if fmt == "ros1":
+            assert not slashed.stderr
+        else:
+            assert slashed.stderr.startswith("hint: /map looked up as map, as ROS 1's tf_echo does: ROS 2's tf2")
+            assert "so a ROS 2 node asks for map\n" in slashed.stderr
+    monitored = tfx("monitor", "/map", "/base_link", "-b", SAMPLE_BAGS["db3"], "-f", "json")
+    assert monitored.code == 0 and "/map, /base_link looked up as map, base_link" in monitored.stderr

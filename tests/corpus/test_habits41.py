@@ -28,6 +28,8 @@ def test_filter_of_named_topics_does_not_suggest_the_command_just_run(corpus: Co
 
 
 EVO = "evo-tf-example-bag"
+LEADING_SLASH = "ros2-turtlebot3-gazebo-leading-slash-2025-db3"
+WEEK11 = "ros1-stage-three-robots-one-never-joined-leading-slashes-pfms-2024-bag"
 
 
 def test_echo_takes_tf_echo_s_rate_after_the_frames_and_refuses_node_arguments(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
@@ -48,3 +50,22 @@ def test_echo_takes_tf_echo_s_rate_after_the_frames_and_refuses_node_arguments(c
     ):
         said = tfx("echo", "odom", "base_link", "-b", path, *given)
         assert said.code == 2 and f"in tfx's options: tfx echo odom base_link -b {path} {fixed})" in said.stderr
+
+
+def test_slashed_frames_are_looked_up_without_it_and_said_so_on_ros2_data(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The UJI TurtleBot3 (ROS 2) whose robot_state_publisher names its frames '/base_link' ...: ``tfx echo /odom
+    /base_scan`` answered as ``odom base_scan`` without a word, where ROS 2's tf2_echo is refused ('in tf2 frame_ids
+    cannot start with a /') and so is any ROS 2 node asking so: a hint says it. PFMS week 11's Stage bag (ROS 1,
+    frames named '/robot_0/odom'): ROS 1's tf_echo drops the slash, and tfx does so without a word."""
+    path = corpus(BY_ID[LEADING_SLASH])
+    slashed, plain = (
+        tfx("echo", *frames, "-b", path, "--at", "+5") for frames in (["/odom", "/base_scan"], ["odom", "base_scan"])
+    )
+    assert slashed.code == plain.code == 0 and slashed.stdout == plain.stdout and not plain.stderr
+    assert slashed.stderr == (
+        "hint: /odom, /base_scan looked up as odom, base_scan, as ROS 1's tf_echo does: ROS 2's tf2 refuses a frame "
+        "id that starts with '/' (\"in tf2 frame_ids cannot start with a '/'\"), so a ROS 2 node asks for odom and "
+        "base_scan\n"
+    )
+    ros1 = tfx("echo", "/world", "/robot_0/odom", "-b", corpus(BY_ID[WEEK11]), "--at", "+1")
+    assert ros1.code == 0 and "At time" in ros1.stdout and not ros1.stderr

@@ -65,7 +65,7 @@ def command(
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
     from tftools.analysis.filter import FilterQuery, filter_messages
-    from tftools.cli.common import frame_argument
+    from tftools.cli.common import frame_arguments
     from tftools.cli.reading import open_recording
     from tftools.render import filter as render
     from tftools.sources.errors import NoStampedDataError, NoTransformsError
@@ -80,7 +80,8 @@ def command(
         raise no_transforms(error, chosen=False) from None
     read = ", ".join(bags) if bags else recording.paths[0]
     if target is not None:
-        query = replace(query, target=frame_argument(recording.buffer.frames, target))
+        (named,) = frame_arguments(recording.buffer.frames, [target], recording.buffer.semantics)
+        query = replace(query, target=named)
     try:
         report = filter_messages(recording, query, on_problem=warn)
     except NoStampedDataError as error:
