@@ -4,6 +4,11 @@ Each test skips while its recording awaits placement in the shared corpus, as th
 
 from __future__ import annotations
 
+import shutil
+from pathlib import Path
+
+import pytest
+
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.recordings import BY_ID, Corpus
 
@@ -69,3 +74,13 @@ def test_slashed_frames_are_looked_up_without_it_and_said_so_on_ros2_data(corpus
     )
     ros1 = tfx("echo", "/world", "/robot_0/odom", "-b", corpus(BY_ID[WEEK11]), "--at", "+1")
     assert ros1.code == 0 and "At time" in ros1.stdout and not ros1.stderr
+
+
+def test_view_frames_output_named_as_ros2_s_view_frames_names_it(corpus: Corpus, tfx: Tfx, tmp_path: Path) -> None:  # noqa: F811
+    """``view_frames -o NAME`` (ROS 2) writes NAME.pdf: on evo's tf example bag, tfx view-frames -o NAME wrote a
+    PDF called NAME; it writes NAME.pdf, the bag's 3 frames in it."""
+    if shutil.which("dot") is None:
+        pytest.skip("Graphviz's dot is not installed")
+    result = tfx("view-frames", "-b", corpus(BY_ID[EVO]), "-o", tmp_path / "evo_frames")
+    assert result.code == 0 and f"wrote {tmp_path / 'evo_frames.pdf'}: 3 frames, 2 transforms" in result.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["evo_frames.pdf"]

@@ -154,7 +154,7 @@ def _usage_error(error: typer.TyperException) -> int:
 #: Options a user may write for one tfx has: the wrong word, and the right option.
 _MEANT = {
     "--time": ("--at", "--start"), "--stamp": ("--at", "--start"), "--hz": ("--rate",), "--frequency": ("--rate",),
-    "--out": ("--output",),
+    "--out": ("--output",), "--wait-time": ("--duration",),  # ROS 2 view_frames' listening time
 }  # fmt: skip
 
 
