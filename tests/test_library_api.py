@@ -444,6 +444,7 @@ def test_filter_of_a_fake_robot_heard_loses_the_misspelt_frame() -> None:
         query = tftools.FilterQuery(sensor_topics=("/nobody",))
         tftools.filter_messages(capture_live(_Robot(), 0.1, query.reading().headers), query)
     assert unheard.value.problems == ["/nobody: no message heard (is it published?)"]  # said once, as heard
+    assert unheard.value.hint.endswith("or none to check every such topic")  # not 'e.g. /scan': what was named
 
 
 def test_echo_stream_of_a_fake_robot() -> None:

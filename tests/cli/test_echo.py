@@ -219,3 +219,61 @@ def test_a_replay_whose_frames_are_joined_later_gives_no_separate_trees_hint(tfx
     assert played.code == 1 and "- Translation:" in played.stdout
     assert "Exception thrown:Could not find a connection between 'map' and 'base_link'" in played.stdout
     assert "separate trees" not in played.stderr
+
+
+def test_the_rate_after_the_frames_is_tf_echo_s_echo_rate(tfx: Tfx) -> None:
+    """``tf_echo source target [echo_rate]`` (ROS 1's and ROS 2's tf2_echo alike): ``tfx echo map base_link 2``
+    was 'Got unexpected extra argument(s) (2)'. The third argument is the rate, as --rate; both differing: refused."""
+    args = ("echo", "map", "base_link", "-b", SAMPLE_BAGS["db3"], "--end", "+3")
+    third = tfx(*args[:3], "2", *args[3:])
+    assert third.code == 0, third.stderr
+    assert (
+        third.stdout == tfx(*args, "--rate", "2").stdout and third.stdout.count("At time ") == 6
+    )  # 0 to 2.5 s every 0.5 s
+    assert tfx(*args[:3], "2", *args[3:], "--rate", "2").stdout == third.stdout
+    twice = tfx(*args[:3], "2", *args[3:], "--rate", "3")
+    assert twice.code == 2 and "two rates: 2 after the frames and --rate 3" in twice.stderr
+
+
+@pytest.mark.parametrize(
+    ("given", "fixed"),
+    [
+        (["_precision:=6"], "--precision 6"),  # rosrun tf tf_echo's private parameters
+        (["_rate:=2", "_precision:=6"], "--rate 2 --precision 6"),
+        (["--ros-args", "-p", "use_sim_time:=true"], "--use-sim-time"),  # ros2 run's
+        (["--ros-args", "-p", "use_sim_time:=False"], "--wall-time"),
+    ],
+)
+def test_a_ros_node_s_arguments_are_shown_as_tfx_options(tfx: Tfx, given: list[str], fixed: str) -> None:
+    """``_precision:=6`` was 'Got unexpected extra argument(s)', ``--ros-args`` 'No such option': a ROS tool's
+    node arguments, which tfx is not; the error shows the command line in tfx's options."""
+    bag = str(SAMPLE_BAGS["ros1"])
+    result = tfx("echo", "map", "base_link", "-b", bag, *given)
+    assert result.code == 2 and result.stderr.count("\n") == 1
+    assert f"{given[0]}: a ROS node's argument" in result.stderr
+    assert f"in tfx's options: tfx echo map base_link -b {bag} {fixed})" in result.stderr
+
+
+def test_a_node_argument_no_option_says_is_named(tfx: Tfx) -> None:
+    result = tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "--ros-args", "-r", "__ns:=/robot1")
+    assert (
+        result.code == 2 and "__ns:=/robot1: no option of tfx monitor says it; see tfx monitor --help" in result.stderr
+    )
+    precision = tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "_precision:=6")  # tf_echo's, not tf_monitor's
+    assert precision.code == 2 and "_precision:=6: no option of tfx monitor says it" in precision.stderr
+
+
+def test_a_slashed_frame_is_looked_up_without_it_and_said_so_on_ros2_data(tfx: Tfx) -> None:
+    """``/map``: ROS 1's tf_echo drops the slash, ROS 2's tf2 refuses it ("in tf2 frame_ids cannot start with a
+    '/'"). tfx looks up map on both; on ROS 2 data a hint says a ROS 2 node must ask for map."""
+    for fmt in ("ros1", "db3"):
+        args = ("-b", SAMPLE_BAGS[fmt], "--at", "+5")
+        slashed, plain = tfx("echo", "/map", "base_link", *args), tfx("echo", "map", "base_link", *args)
+        assert slashed.code == 0 and slashed.stdout == plain.stdout and not plain.stderr
+        if fmt == "ros1":
+            assert not slashed.stderr
+        else:
+            assert slashed.stderr.startswith("hint: /map looked up as map, as ROS 1's tf_echo does: ROS 2's tf2")
+            assert "so a ROS 2 node asks for map\n" in slashed.stderr
+    monitored = tfx("monitor", "/map", "/base_link", "-b", SAMPLE_BAGS["db3"], "-f", "json")
+    assert monitored.code == 0 and "/map, /base_link looked up as map, base_link" in monitored.stderr

@@ -166,6 +166,19 @@ def test_a_recording_of_tf_alone_is_no_sensor_data_to_check_not_an_error(tfx: Tf
     assert named.code == 2 and "/scan: not in the recording" in named.stderr and not named.stdout
 
 
+@pytest.mark.parametrize("named", [("/scan",), ("/scan", "/odom"), ("/tf",), ("/diagnostics",)])
+def test_the_hint_for_named_topics_is_not_the_command_just_run(
+    tfx: Tfx, bags: dict[str, Path], named: tuple[str, ...]
+) -> None:
+    """``tfx filter /scan`` where /scan holds nothing to check answered 'e.g. tfx filter /scan -b BAG': the
+    command just run. Topics were named, so the way on is other names or none (every topic with a Header)."""
+    tf_only = bags["ros1"].parent / "tf.bag"
+    said = tfx("filter", *named, "-b", bags["ros1"] if named == ("/diagnostics",) else tf_only)
+    assert said.code == 2 and len(said.stderr.strip().splitlines()) == 1
+    assert "e.g. tfx filter" not in said.stderr and "e.g. /scan" not in said.stderr
+    assert "or none: tfx filter -b BAG checks every such topic" in said.stderr
+
+
 def test_filter_refuses_what_it_cannot_use(tfx: Tfx, bags: dict[str, Path]) -> None:
     nothing = tfx("filter", "/nothing", "-b", bags["ros1"])
     assert nothing.code == 2 and "no topic with a Header" in nothing.stderr

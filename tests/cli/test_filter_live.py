@@ -71,6 +71,7 @@ def test_ros1_live_filter_with_no_sensor_data_is_a_one_line_error(ros: Ros) -> N
     wait_until(lambda: ros.master.publishers("/tf"), 20, "the tf publisher")
     result = ros.run_tfx("filter", "/nothing_here", "--ros1", "-d", "1")
     assert result.returncode == 2 and "no topic with a Header to check" in result.stderr
+    assert "or none: tfx filter checks every such topic advertised; or listen longer" in result.stderr
     assert "Traceback" not in result.stderr
 
 

@@ -96,6 +96,18 @@ def test_sample_bag_in_every_format(tfx: Tfx, tmp_path: Path, bag: str, fmt: str
     assert list(tmp_path.iterdir()) == [output]  # nothing else written
 
 
+def test_an_output_named_without_a_suffix_gets_its_format_s(tfx: Tfx, tmp_path: Path) -> None:
+    """ROS 2's ``view_frames -o NAME`` writes NAME.pdf: tfx wrote a PDF named NAME, without a suffix. It writes
+    NAME.pdf (NAME.svg with --format svg); ``--wait-time``, view_frames' listening time, is --duration."""
+    need("dot")
+    named = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "-o", tmp_path / "tree")
+    assert named.code == 0 and f"wrote {tmp_path / 'tree.pdf'}: 18 frames" in named.stderr
+    assert tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "-o", tmp_path / "tree", "-f", "svg").code == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tree.pdf", "tree.svg"]
+    waited = tfx("view-frames", "--wait-time", "10")
+    assert waited.code == 2 and "No such option: --wait-time (did you mean --duration?" in waited.stderr
+
+
 @pytest.mark.parametrize("bag", bag_formats())
 def test_pdf_shows_every_frame_and_each_edges_numbers(tfx: Tfx, tmp_path: Path, bag: str) -> None:
     need("dot")

@@ -8,12 +8,12 @@ CI too. Once placed it is checked by sha256 like the others.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from tests.corpus.fetch import Recording, member_path, missing_members, root_of, shared_dir
+from tests.corpus.recordings import Corpus
 
 
 def _shared_copy(recording: Recording) -> Path | None:
@@ -48,7 +48,7 @@ def _reason(recording: Recording) -> tuple[str, bool] | None:
 
 
 @pytest.fixture(scope="session")
-def corpus() -> Callable[[Recording], Path]:
+def corpus() -> Corpus:
     """``corpus(recording) -> Path`` to open; skips (fails when ``CI=true``) if not fetched and verified."""
     checked: dict[str, tuple[str, bool] | None] = {}
 

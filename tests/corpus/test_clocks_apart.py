@@ -6,20 +6,14 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.recordings import BY_ID, Corpus
 from tftools.analysis.report.recording import recording_facts
 from tftools.sources.recording import read_recording
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
 
 TWO_ODOMETRIES = "ros1-sail-zed-ekf-gps-two-odometries-2022-bag"
 REVALUED = "ros1-sail-zed-revalued-stamps-2022-bag"

@@ -7,7 +7,6 @@ from __future__ import annotations
 import html
 import json
 import re
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any, cast
 
@@ -16,14 +15,9 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.fetch import Recording
+from tests.corpus.recordings import BY_ID, RECORDINGS, WITH_TF, Corpus
 from tftools.core.time import NS_PER_S
-
-_, RECORDINGS = load_manifest()
-WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
 
 
 def _span(contents: data.Contents) -> tuple[int, int]:

@@ -25,7 +25,8 @@ import pytest
 import tftools
 from tests.cli.conftest import Result, Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus import data
-from tests.corpus.fetch import Recording, load_manifest, shared_dir
+from tests.corpus.fetch import Recording, shared_dir
+from tests.corpus.recordings import ARCHIVES, BY_ID, RECORDINGS, WITH_TF, Corpus
 from tests.oracle import ERROR_CLASSES, Row, Scenario, bag_rows, binding_time, cpp_insert, run_cpp_core, run_tf2
 from tests.sources.test_stream import whole_parents
 from tftools.analysis.expected import shape_of
@@ -37,8 +38,6 @@ from tftools.sources.edge_clocks import EdgeClock
 from tftools.sources.stream import SAMPLES_PER_FRAME, stream_recording
 from tftools.sources.timeline import Playback
 
-ARCHIVES, RECORDINGS = load_manifest()
-WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]
 ROS1_WITH_TF = [r for r in WITH_TF if r.meta["format"] == "ros1"]
 ROS2_WITH_TF = [r for r in WITH_TF if r.meta["format"] != "ros1"]
 DAY_S = 86_400.0
@@ -54,8 +53,6 @@ CPP_CACHE_S = 1_000_000  # longer than any recording: tftools keeps a recording'
 # recorded slightly off unit length (float32 sources) rounds by up to 2.5e-9 (the Husky's gripper chain);
 # a wrong sample, interpolation or chain is off by far more.
 COMPOSE_TOLERANCE = 1e-8
-
-Corpus = Callable[[Recording], Path]
 
 
 def _ids(recordings: list[Recording]) -> list[str]:
@@ -689,8 +686,7 @@ CALIBRATIONS = ("grandtour-calibration-2024-bag", "grandtour-calibration-2025-ba
 
 
 def _calibrations(corpus: Corpus) -> tuple[Path, Path]:
-    by_id = {r.id: r for r in RECORDINGS}
-    first, second = (corpus(by_id[i]) for i in CALIBRATIONS)
+    first, second = (corpus(BY_ID[i]) for i in CALIBRATIONS)
     return first, second
 
 

@@ -5,16 +5,9 @@ Each test skips while its recording awaits placement in the shared corpus, as th
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from pathlib import Path
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 MIR = "ros1-mir-gazebo-landmark-mcl-input-no-map-2021-bag"
 

@@ -4,16 +4,9 @@ the code's own tests (tests/analysis/test_wtf.py)."""
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from pathlib import Path
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 NO_WORLD = "ros1-stage-three-robots-no-world-three-trees-all-slashed-clock-pfms-a4-2020-bag"
 

@@ -7,19 +7,13 @@ from __future__ import annotations
 import html
 import json
 import re
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 AUV = "ros2-auv-real-sbg-dvl-ping-sensors-no-tf-humble-2026-db3"
 CRAZYFLIE = "ros2-crazyflie-real-vicon-flight-no-tf-jazzy-2025-mcap"

@@ -4,23 +4,20 @@ a -wal file beside it, which sqlite reads)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from pathlib import Path
-
 import pytest
 
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.fetch import Recording
+from tests.corpus.recordings import RECORDINGS, Corpus
 from tests.sources.bag.test_db3_pages import from_pages, through_sqlite
 from tftools.sources.bag.rosbag2.database import Database
 
-_, RECORDINGS = load_manifest()
 DB3 = [r for r in RECORDINGS if r.meta.get("format") == "db3"]
 
 pytest.importorskip("tftools.sources.bag.rosbag2._sqlite", reason="built without sqlite's headers")
 
 
 @pytest.mark.parametrize("recording", DB3, ids=[r.id for r in DB3])
-def test_pages_give_sqlites_rows(recording: Recording, corpus: Callable[[Recording], Path]) -> None:
+def test_pages_give_sqlites_rows(recording: Recording, corpus: Corpus) -> None:
     opened = corpus(recording)
     files = sorted(opened.glob("*.db3")) if opened.is_dir() else [opened]
     assert files

@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.test_issue39 import BY_ID, Corpus
+from tests.corpus.recordings import BY_ID, Corpus
 from tests.corpus.test_issue39 import _findings as _checked
 
 ARUCO = "ros2-aruco-camera-drone-markers-two-robots-real-2024-db3"

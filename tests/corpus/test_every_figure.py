@@ -16,10 +16,8 @@ from typing import Any
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-from tests.corpus.test_issue39 import BY_ID, Corpus
-
-_, RECORDINGS = load_manifest()
+from tests.corpus.fetch import Recording
+from tests.corpus.recordings import BY_ID, RECORDINGS, Corpus
 
 #: ``duration``'s units (core/time.py), in seconds.
 UNITS = {"s": 1.0, "min": 60.0, "h": 3600.0, "days": 86400.0}

@@ -4,21 +4,14 @@ but refused rows numbered over the reader's table of names, interned in the orde
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import pytest
 
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.recordings import BY_ID, Corpus
 from tftools.core.batch import ROW_COLUMNS
 from tftools.sources.recording import Recording as Read
 from tftools.sources.recording import read_recording
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
 
 EPUCK = "ros2-webots-epuck-resends-2025-db3"
 KOBUKI = "ros1-gazebo-kobuki-repeated-stamps-2017-bag"

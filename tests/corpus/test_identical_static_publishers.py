@@ -5,18 +5,11 @@ recording began, or more of them than metadata.yaml lists heard), counted in one
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from pathlib import Path
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 #: (recording, how many publishers, the edge, what told them apart)
 SAME = [

@@ -12,22 +12,16 @@ import json
 import re
 import shutil
 import xml.etree.ElementTree as ElementTree
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.fetch import Recording
+from tests.corpus.recordings import BY_ID, WITH_TF, Corpus
 from tftools.analysis.findings import Severity
 from tftools.analysis.wtf.registry import CHECKS
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-WITH_TF = [r for r in RECORDINGS if r.meta["frames"]]
-
-Corpus = Callable[[Recording], Path]
 
 EPUCK = "ros2-webots-epuck-resends-2025-db3"
 CREATE3 = "ros2-create3-real-two-urdfs-2022-db3"

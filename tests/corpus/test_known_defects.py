@@ -8,18 +8,11 @@ from __future__ import annotations
 import itertools
 import json
 import re
-from collections.abc import Callable
-from pathlib import Path
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 FSM = "ros2-neato-real-fsm-odom-jump-2023-db3"
 PERSON_FOLLOWER = "ros2-neato-real-person-follower-isha-2023-db3"

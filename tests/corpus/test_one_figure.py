@@ -14,7 +14,8 @@ import pytest
 
 from tests.bags import TfMessage, write_bag
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.test_issue39 import BY_ID, CALIBRATION_2025, LAP, Corpus
+from tests.corpus.recordings import BY_ID, Corpus
+from tests.corpus.test_issue39 import CALIBRATION_2025, LAP
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
 

@@ -4,20 +4,14 @@ are beside the code's own tests."""
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.recordings import BY_ID, Corpus
 from tftools.sources.recording import read_recording
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
 
 JETACKER_SLAM = "ros2-jetacker-gazebo-slam-toolbox-static-map-2025-db3"
 

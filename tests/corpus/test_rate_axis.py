@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.test_issue39 import RECORDINGS, Corpus
+from tests.corpus.recordings import RECORDINGS, Corpus
 
 RATED = [r for r in RECORDINGS if "publisher_rates_hz" in r.meta["expected"]]
 REPLAYED = [r for r in RECORDINGS if "replayed_edge_counts" in r.meta["expected"]]

@@ -8,17 +8,13 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Callable
-from pathlib import Path
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.recordings import BY_ID, Corpus
 
 WEBOTS = "ros2-turtlebot3-webots-resends-2025-db3"
-BY_ID = {r.id: r for r in load_manifest()[1] if r.id == WEBOTS}
-Corpus = Callable[[Recording], Path]
 FIRST_STAMP = 90.62  # the first /tf stamp (simulated time); /clock was first recorded at 92.54
 
 

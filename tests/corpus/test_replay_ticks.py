@@ -8,15 +8,11 @@ fixed joints post-dated by robot_state_publisher a tick further from zero (-0.50
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from pathlib import Path
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.recordings import BY_ID, Corpus
 
 STAGE = "ros1-stage-amcl-sim-time-2015-bag"
-BY_ID = {r.id: r for r in load_manifest()[1] if r.id == STAGE}
-Corpus = Callable[[Recording], Path]
 
 
 def test_the_replay_says_the_delays_of_the_whole_read(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

@@ -7,21 +7,18 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.recordings import BY_ID, Corpus
 
 DIFF_CONT = "ros2-ias0220-gazebo-diff-drive-beside-imu-device-2025-db3"
 NO_CLOCK = "ros2-ias0220-gazebo-diff-drive-no-clock-2025-db3"
 AGV = "ros1-agv-two-lasers-mounts-on-tf-and-tf-static-replayed-2018-bag"
 COBOT = "ros2-logistic-cobot-pymoveit2-no-record-clock-2024-db3"
 DEVICE = ("imu_link", "ultrasound_distance_sensor")
-BY_ID = {r.id: r for r in load_manifest()[1] if r.id in (DIFF_CONT, NO_CLOCK, AGV, COBOT)}
-Corpus = Callable[[Recording], Path]
 
 
 @pytest.mark.parametrize("recording_id", [DIFF_CONT, NO_CLOCK])

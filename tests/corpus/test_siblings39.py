@@ -10,7 +10,8 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus import variants
-from tests.corpus.test_issue39 import BY_ID, Corpus, _findings
+from tests.corpus.recordings import BY_ID, Corpus
+from tests.corpus.test_issue39 import _findings
 from tests.sinks.test_static_bag import _static_changes
 from tftools.analysis.wtf.scene import Scene
 from tftools.sources.recording import read_recording

@@ -4,16 +4,9 @@ showed it; the designed reproductions are beside the code's own tests."""
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from pathlib import Path
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 NEATO_URDF_BESIDE_DRIVER = "ros1-neato-urdf-beside-driver-2018-bag"
 

@@ -8,10 +8,9 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-from tests.corpus.test_issue39 import BY_ID, Corpus, _findings
-
-_, RECORDINGS = load_manifest()
+from tests.corpus.fetch import Recording
+from tests.corpus.recordings import BY_ID, RECORDINGS, Corpus
+from tests.corpus.test_issue39 import _findings
 
 JETACKER_REAL = "ros2-jetacker-real-two-odometries-2026-db3"
 

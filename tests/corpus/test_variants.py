@@ -9,18 +9,15 @@ Where a variant holds other bytes the answer may differ, and is left out here wi
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from tests.corpus import variants
-from tests.corpus.fetch import Recording, load_manifest
+from tests.corpus.fetch import Recording
+from tests.corpus.recordings import RECORDINGS, Corpus
 from tftools import CheckQuery, check
 
-_, RECORDINGS = load_manifest()
-
-Corpus = Callable[[Recording], Path]
 Found = tuple[int, int, set[tuple[str, str, tuple[str, ...], str]]]
 
 #: Recordings rosbags' readers cannot read whole (their damage is what they are in the corpus for): no variant of

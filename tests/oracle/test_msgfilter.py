@@ -9,12 +9,12 @@ import json
 import os
 import subprocess
 import sys
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
-from tests.corpus.fetch import Recording, load_manifest, shared_dir
+from tests.corpus.fetch import Recording, shared_dir
+from tests.corpus.recordings import RECORDINGS, Corpus
 from tests.oracle import message_filter as mf
 from tests.oracle import unavailable_reason
 from tftools.analysis.filter import FilterQuery, filter_streams
@@ -145,7 +145,7 @@ def test_each_fault_of_issue_29_is_the_real_filters_answer(oracle: Path, designe
 
 def _real_bags() -> list[pytest.param]:  # type: ignore[valid-type]  # its type, ParameterSet, is private
     """The corpus' ROS 1 recordings: the manifest's, and any other .bag placed in the shared corpus folder."""
-    manifest = [r for r in load_manifest()[1] if r.open.endswith(".bag")]
+    manifest = [r for r in RECORDINGS if r.open.endswith(".bag")]
     named = {r.open.rsplit("/", 1)[-1] for r in manifest}
     params = [pytest.param(r, id=r.id, marks=_marks(r.id)) for r in manifest]
     for path in sorted((shared_dir() / "corpus").glob("*.bag")):
@@ -179,7 +179,7 @@ HEAVY = (
 
 @pytest.mark.parametrize("recording", _real_bags())
 def test_every_message_of_a_real_recording_meets_the_real_filters_fate(
-    oracle: Path, corpus: Callable[[Recording], Path], recording: Recording | Path, tmp_path: Path
+    oracle: Path, corpus: Corpus, recording: Recording | Path, tmp_path: Path
 ) -> None:
     bag = recording if isinstance(recording, Path) else corpus(recording)
     try:

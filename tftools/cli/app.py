@@ -61,6 +61,7 @@ def _run() -> int:
     from tftools.core.errors import TfToolsError
 
     try:
+        _ros_arguments()
         _bag_among_frames()
         with _warnings_as_notices():
             code = app(standalone_mode=False, prog_name="tfx")
@@ -153,7 +154,7 @@ def _usage_error(error: typer.TyperException) -> int:
 #: Options a user may write for one tfx has: the wrong word, and the right option.
 _MEANT = {
     "--time": ("--at", "--start"), "--stamp": ("--at", "--start"), "--hz": ("--rate",), "--frequency": ("--rate",),
-    "--out": ("--output",),
+    "--out": ("--output",), "--wait-time": ("--duration",),  # ROS 2 view_frames' listening time
 }  # fmt: skip
 
 
@@ -177,6 +178,20 @@ def _forgotten_bag_option(message: str) -> str:
     if "unexpected extra argument" not in message or not words or words[0] in ("wtf", "report", "diff"):
         return ""
     return _with_b(words, {w for w in words if w in message and _is_bag(w)})
+
+
+def _ros_arguments() -> None:
+    """``tfx echo map base_link _precision:=5``, ``... --ros-args -p use_sim_time:=true``: a ROS tool's node
+    arguments (``ros_arguments``), refused with the command line in tfx's options."""
+    from tftools.cli.commands import SUBCOMMANDS
+
+    words = sys.argv[1:]
+    if not words or words[0] not in SUBCOMMANDS or not any(":=" in w or w == "--ros-args" for w in words[1:]):
+        return
+    from tftools.cli.commands import options_of
+    from tftools.cli.ros_arguments import refuse_ros_arguments
+
+    refuse_ros_arguments(words, options_of(words[0]))
 
 
 def _bag_among_frames() -> None:

@@ -57,6 +57,12 @@ class _Subcommands(MutableMapping[str, Any]):
         return len(SUBCOMMANDS)
 
 
+def options_of(name: str) -> set[str]:
+    """The options of subcommand ``name`` (its module imported), both of a pair: --use-sim-time, --wall-time."""
+    command = _Subcommands()[name]
+    return {o for param in command.params for o in (*param.opts, *param.secondary_opts)}
+
+
 class _LazyGroup(typer.core.TyperGroup):
     """A typer group whose subcommands are ``_Subcommands``; its help lists them without importing them."""
 

@@ -15,10 +15,11 @@ from rich.console import Console
 from rich.text import Text
 
 from tftools.core.errors import TfToolsError
-from tftools.core.frames import known_frame
+from tftools.core.frames import frame_name, known_frame
 from tftools.render.escape import printable
 
 if TYPE_CHECKING:  # the readers load when a command reads: its --help needs none of them (nor numpy)
+    from tftools.core.semantics import Semantics
     from tftools.sources.bag import ProgressCallback
 
 
@@ -160,9 +161,26 @@ def local_size(location: str) -> int:
         return 0
 
 
-def frame_argument(frames: Sequence[str], frame: str) -> str:
-    """A frame given on the command line (a leading ``/`` dropped, as tf did); must be one of ``frames``."""
-    return known_frame(frames, frame)
+def frame_arguments(frames: Sequence[str], given: Sequence[str], semantics: Semantics) -> list[str]:
+    """Frames given on the command line, each of which must be one of ``frames``: a leading ``/`` dropped, as ROS
+    1's tf_echo drops it; said where the data's tf2 is ROS 2's, which refuses it (``slash_dropped``)."""
+    names = [known_frame(frames, frame) for frame in given]
+    slash_dropped(given, semantics)
+    return names
+
+
+def slash_dropped(given: Sequence[str], semantics: Semantics) -> None:
+    """One hint where frames ``given`` with a leading ``/`` are looked up without it on ROS 2's tf2, whose lookups
+    refuse such a name (tf2_echo /map waits for ever, each second "in tf2 frame_ids cannot start with a '/'")."""
+    slashed = [frame for frame in given if frame.startswith("/")]
+    if not slashed or semantics != "ros2":
+        return
+    names = [frame_name(frame) for frame in slashed]
+    say_hint(
+        f"{', '.join(slashed)} looked up as {', '.join(names)}, as ROS 1's tf_echo does: ROS 2's tf2 refuses a "
+        f"frame id that starts with '/' (\"in tf2 frame_ids cannot start with a '/'\"), so a ROS 2 node asks for "
+        f"{' and '.join(names)}"
+    )
 
 
 def exit_with(code: Exit) -> NoReturn:

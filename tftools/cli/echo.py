@@ -13,7 +13,7 @@ import typer
 
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds, rate_hz
-from tftools.cli.common import Exit, exit_with, frame_argument, say_hint, stdout
+from tftools.cli.common import Exit, exit_with, frame_arguments, say_hint, slash_dropped, stdout
 from tftools.cli.errors import UsageError
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.cli.reading import open_recording, open_stream
@@ -56,6 +56,12 @@ def command(
         str, typer.Argument(help="The frame to express the transform in (tf_echo's first frame), e.g. map.")
     ],
     source: Annotated[str, typer.Argument(help="The frame whose pose is shown, e.g. base_link.")],
+    echo_rate: Annotated[
+        float | None,
+        typer.Argument(
+            metavar="RATE", help="Lines a second, as tf_echo's echo_rate after the frames: the same as --rate."
+        ),
+    ] = None,
     bags: options.Bags = None,
     rate: Annotated[
         float | None,
@@ -116,7 +122,9 @@ def command(
 
     On a bag, it steps through bag time at --rate Hz over the stretch where every moving
     edge between the frames has data (or --start/--end), interpolating as tf2 does; a lookup
-    that fails prints tf2's reason and echo goes on. Exit code 1 if any lookup failed.
+    that fails prints tf2's reason and echo goes on. Exit code 1 if any lookup failed. A frame
+    given as /map is looked up as map, as ROS 1's tf_echo does (ROS 2's tf2 refuses the slash: a
+    hint says so on ROS 2 data).
 
     Examples: [cyan]tfx echo map base_link -b robot.bag --all --format csv > pose.csv[/],
     [cyan]tfx echo map base_link -b robot.bag --plot pose.png[/],
@@ -126,6 +134,7 @@ def command(
     from tftools.analysis.times import Stamp, parse_time_spec
 
     check_plot(plot, bags, force)
+    rate = _one_rate(echo_rate, rate)
     every = every or (plot is not None and rate is None and at is None)
     rate_given, rate = rate, rate_hz(1.0 if rate is None else rate)
     if wait is not None:
@@ -140,6 +149,7 @@ def command(
         feed = live.open_source(ros1, use_sim_time, topics)
         query = EchoQuery(target=target, source=source, rate=rate, cache_time=from_sec(cache))
         ros2 = (tf2 or ("ros2" if feed.format.startswith("ros2") else "ros1")) == "ros2"
+        slash_dropped((target, source), "ros2" if ros2 else "ros1")
         exit_with(_live(feed, query, count, wait, tf2, replace(lines, ros2=ros2, live=True)))
     query = EchoQuery(
         target=target,
@@ -153,18 +163,25 @@ def command(
     if play:  # as tf_echo sees a live system: the bag streamed on a sim clock into a tf2-sized buffer
         streamed = open_stream(bags, topics, tf2)
         lines = replace(lines, ros2=streamed.semantics == "ros2")
-        frames = streamed.frames
-        query = replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
+        named = frame_arguments(streamed.frames, (target, source), streamed.semantics)
+        query = replace(query, target=named[0], source=named[1])
         echo_stream(streamed, query, lines.show)
         exit_with(lines.done())
     recording = open_recording(bags, topics, tf2)
     lines = replace(lines, ros2=recording.buffer.semantics == "ros2")
-    frames = recording.buffer.frames
-    query = replace(query, target=frame_argument(frames, target), source=frame_argument(frames, source))
+    named = frame_arguments(recording.buffer.frames, (target, source), recording.buffer.semantics)
+    query = replace(query, target=named[0], source=named[1])
     series = echo(recording, query)
     lines.show(series, recording.buffer, print_lines=plot is None)  # on a bag, the picture instead of the lines
     lines.say_span(recording, query, series)
     exit_with(lines.done())
+
+
+def _one_rate(echo_rate: float | None, rate: float | None) -> float | None:
+    """The rate given after the frames (tf_echo's and tf2_echo's ``source target [echo_rate]``) or as --rate."""
+    if echo_rate is not None and rate is not None and echo_rate != rate:
+        raise UsageError(f"two rates: {echo_rate:g} after the frames and --rate {rate:g}", "give one of them")
+    return rate if echo_rate is None else echo_rate
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -12,6 +12,9 @@ from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import Exit, TextOrJson, exit_with, stdout, warn
 from tftools.cli.errors import UsageError, no_transforms
 from tftools.core.time import from_sec
+
+if TYPE_CHECKING:
+    from tftools.sources.errors import NoStampedDataError
 
 
 def command(
@@ -62,7 +65,7 @@ def command(
     if wait is not None and wait != 0:  # a timeout of 0: only what is transformable on arrival goes through
         wait = positive_seconds(wait, "--wait", "0.2")
     from tftools.analysis.filter import FilterQuery, filter_messages
-    from tftools.cli.common import frame_argument
+    from tftools.cli.common import frame_arguments
     from tftools.cli.reading import open_recording
     from tftools.render import filter as render
     from tftools.sources.errors import NoStampedDataError, NoTransformsError
@@ -77,15 +80,25 @@ def command(
         raise no_transforms(error, chosen=False) from None
     read = ", ".join(bags) if bags else recording.paths[0]
     if target is not None:
-        query = replace(query, target=frame_argument(recording.buffer.frames, target))
+        (named,) = frame_arguments(recording.buffer.frames, [target], recording.buffer.semantics)
+        query = replace(query, target=named)
     try:
         report = filter_messages(recording, query, on_problem=warn)
     except NoStampedDataError as error:
-        example = "tfx filter /scan -b BAG" if bags else "tfx filter /scan, or listen longer with --duration"
-        hint = error.hint if error.unrecorded else f"name topics of stamped messages, e.g. {example}"
-        raise UsageError(str(error), hint) from None
+        raise UsageError(str(error), _named_hint(error, bool(bags))) from None
     if fmt is TextOrJson.json:
         render.write_json(report, stdout.file)
     else:
         stdout.print(render.renderable(report, read))
     exit_with(Exit.PROBLEMS if report.lost else Exit.OK)
+
+
+def _named_hint(error: NoStampedDataError, bags: bool) -> str:
+    """What to do where the topics named hold no message to check: not an example naming another topic (``tfx
+    filter /scan`` answered 'e.g. tfx filter /scan -b BAG', the command just run), but the command without them."""
+    if error.unrecorded:  # the recorder, not the names, is what to look at
+        return error.hint
+    names = "name topics of sensor data (a Header with a frame_id), or none"
+    if bags:
+        return f"{names}: tfx filter -b BAG checks every such topic"
+    return f"{names}: tfx filter checks every such topic advertised; or listen longer with --duration"

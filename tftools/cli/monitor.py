@@ -10,7 +10,7 @@ import typer
 
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds, rate_hz
-from tftools.cli.common import TextOrJson, frame_argument, stdout, warn
+from tftools.cli.common import TextOrJson, frame_arguments, slash_dropped, stdout, warn
 from tftools.cli.errors import UsageError
 from tftools.cli.plots import PLOT_FILE, check_plot, write_plot
 from tftools.cli.reading import open_recording, open_stream
@@ -105,11 +105,13 @@ def command(
         duration = positive_seconds(duration, "--duration", "10")
     if not bags:
         live.no_bag_options(**{"--start": start, "--end": end, "--play": play})
+        given = [f for f in (target, source) if f is not None]
         if target is not None and source is not None:
             target, source = frame_name(target), frame_name(source)
         query = MonitorQuery(target=target, source=source, window=from_sec(window))
         with live.open_source(ros1, use_sim_time, topics) as feed:
             semantics = tf2 or live_semantics(feed)
+            slash_dropped(given, semantics)
             _watch(feed, query, duration, fmt, feed.describe(), semantics, trace)
         _write_trace(trace, plot, feed.describe())
         return
@@ -120,13 +122,13 @@ def command(
         if streamed.unplayable:  # a replay paced by no clock plays every message at once (rates of 1e11 Hz)
             why = f"--play replays by arrival, and {streamed.unplayable}"
             raise UsageError(why, "read it whole: tfx monitor -b BAG")
-        target, source = _chain(streamed.frames, target, source)
+        target, source = _chain(streamed.frames, target, source, streamed.semantics)
         query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec, window=from_sec(window))
         _watch(streamed, query, duration, fmt, f"rate {rate:g}x", trace=trace, speed=rate)
         _write_trace(trace, plot, ", ".join(streamed.paths))
         return
     recording = open_recording(bags, topics, tf2)
-    target, source = _chain(recording.buffer.frames, target, source)
+    target, source = _chain(recording.buffer.frames, target, source, recording.buffer.semantics)
     query = MonitorQuery(target=target, source=source, start=first_spec, end=last_spec)
     report = monitor(recording, query)
     header = _header(recording, report, chain_span(recording, query), query.start is not None or query.end is not None)
@@ -188,11 +190,14 @@ def _watch(
         pass
 
 
-def _chain(frames: Sequence[str], target: str | None, source: str | None) -> tuple[str | None, str | None]:
-    """TARGET and SOURCE, if given, as frames of the recording."""
+def _chain(
+    frames: Sequence[str], target: str | None, source: str | None, semantics: Semantics
+) -> tuple[str | None, str | None]:
+    """TARGET and SOURCE, if given, as frames of the recording (whose tf2 is ``semantics``)."""
     if target is None or source is None:
         return target, source
-    return frame_argument(frames, target), frame_argument(frames, source)
+    named = frame_arguments(frames, (target, source), semantics)
+    return named[0], named[1]
 
 
 def _write_trace(trace: MonitorTrace | None, plot: Path | None, what: str) -> None:

@@ -63,7 +63,8 @@ Ros = Annotated[
     bool | None,
     typer.Option(
         "--ros1/--ros2",
-        help="Live: ROS1 (ROS_MASTER_URI) or ROS2 (ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY...); default: the environment's.",
+        help="Live: ROS1 (ROS_MASTER_URI) or ROS2 (ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE or "
+        "ROS_LOCALHOST_ONLY); default: ROS_VERSION.",
     ),
 ]
 SimTime = Annotated[

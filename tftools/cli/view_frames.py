@@ -49,7 +49,7 @@ def command(
             "--output",
             "-o",
             help="Where to write (never over, into or above the input); - for stdout "
-            "(default frames.pdf, or frames.FORMAT).",
+            "(default frames.pdf, or frames.FORMAT; a NAME without suffix: NAME.pdf, as ROS 2's view_frames -o).",
         ),
     ] = None,
     fmt: Annotated[
@@ -131,6 +131,8 @@ def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str], fo
         check_output(Path(default), bags, option="the default output")
         check_replaceable(Path(default), True, "the default output")
         return chosen, default
+    if _bare(output):  # ROS 2's view_frames -o NAME writes NAME.pdf (and NAME.gv)
+        output += _suffix(fmt or GraphFormat.pdf)
     implied = SUFFIXES.get(Path(output).suffix.lower())
     if fmt is not None and implied is not None and implied is not fmt:
         raise UsageError(
@@ -140,6 +142,12 @@ def _output(output: str | None, fmt: GraphFormat | None, bags: Sequence[str], fo
     check_output(Path(output), bags, file_name="frames.pdf")
     check_replaceable(Path(output), force)
     return fmt or implied or GraphFormat.pdf, output
+
+
+def _bare(output: str) -> bool:
+    """Whether ``output`` names a file to be made without a suffix (not a folder, nor a device or file there)."""
+    path = Path(output)
+    return not path.suffix and path.name not in ("", ".", "..") and not output.endswith("/") and not path.exists()
 
 
 def _suffix(fmt: GraphFormat) -> str:

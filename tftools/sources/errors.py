@@ -185,7 +185,7 @@ class NoStampedDataError(SourceError):
             f"the recorder received none of {its} messages (none published while it recorded, or, in ROS 2, a "
             f"publisher whose QoS it did not match): record {them} again, or name topics that hold messages"
             if unrecorded
-            else "name topics of stamped messages, e.g. /scan"
+            else "name topics of sensor data (a Header with a frame_id), or none to check every such topic"
         )
         self.problems = said
         self.unrecorded = list(unrecorded)
