@@ -4,18 +4,11 @@ the code's own tests (tests/analysis/test_description.py, tests/analysis/test_wt
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from pathlib import Path
 
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 THRICE = "ros2-eyrc-hologlyph-holonomic-bot-gazebo-planar-move-three-times-odometry-thrice-metadata-renamed-2023-db3"
 

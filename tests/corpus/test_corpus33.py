@@ -4,16 +4,9 @@ the code's own tests (tests/analysis/test_wtf_hazards.py)."""
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from pathlib import Path
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.fetch import Recording, load_manifest
-
-_, RECORDINGS = load_manifest()
-BY_ID = {r.id: r for r in RECORDINGS}
-
-Corpus = Callable[[Recording], Path]
+from tests.corpus.recordings import BY_ID, Corpus
 
 JARVIS = "ros1-jarvis-tricycle-agv-real-nav350-reflector-localisation-map-odom-no-callerid-2014-bag"
 

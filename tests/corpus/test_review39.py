@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
-from tests.corpus.test_issue39 import BY_ID, RECORDINGS, Corpus
+from tests.corpus.recordings import BY_ID, RECORDINGS, Corpus
 from tftools.analysis.differences import rotation_angle_deg
 from tftools.core.rotation import quat_from_rpy
 
