@@ -98,6 +98,26 @@ def test_a_frame_moving_under_odom_is_said_odometry_s_base_and_a_driver_s_frame_
     assert "a camera or lidar driver's own frames" in extras["camera_optical"], extras
 
 
+def test_an_odom_frame_heading_a_tree_apart_from_the_links_is_said_rep_105_s(tmp_path: Path) -> None:
+    """The e-Yantra Hologlyph bags (ros2_db3_eyrc_hologlyph_hb_bot_gazebo_two_trees_two_clocks_2023): Gazebo's
+    odometry sends odom -> base_footprint beside a URDF rooted at footprint_link, and urdf_extra said of odom (a root
+    apart from the links) and of base_footprint "a camera or lidar driver's own frames". odom is REP 105's frame,
+    the moving frame under it odometry's base, whichever tree they head."""
+    messages = recorded(Setup())
+    for m in messages:
+        if m.topic == "/tf" and m.publisher == "/odometry":
+            m.value[:] = [replace(t, child_frame_id="base_apart") for t in m.value]
+    bag = write_robot_bag(tmp_path / "apart.bag", messages)
+    recording = read_recording([bag])
+    robot, _ = robot_of([bag], recording, ROBOT)
+    findings = findings_of(Scene(recording, robot=robot))
+    assert "disconnected" in {f.code for f in findings}
+    extras = {f.frames[-1]: f.hint for f in findings if f.code == "urdf_extra"}
+    assert "REP 105's odom frame is published by odometry or localization" in extras["odom"], extras
+    assert "the robot's base as its odometry publishes it (REP 105" in extras["base_apart"], extras
+    assert not any("camera or lidar" in hint for hint in extras.values()), extras
+
+
 def test_a_wheel_turning_more_than_half_a_turn_between_samples_is_no_false_alarm(tmp_path: Path) -> None:
     # tf at 5 Hz, 4 rad apart: a joint state between two samples would be interpolated the short way round
     setup = Setup(wheel_speed=20.0, tf_every=4)

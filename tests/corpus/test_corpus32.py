@@ -42,6 +42,10 @@ def test_the_descriptions_own_frames_are_named_as_such(name: str, corpus: Corpus
     (apart,) = [f for f in bag["findings"] if f["code"] == "disconnected"]
     assert "odom -> base_footprint names a base that the recorded /robot_description lacks" in apart["hint"]
     assert "make the odometry publish odom -> footprint_link" in apart["hint"]
+    extras = {f["frames"][-1]: f["hint"] for f in bag["findings"] if f["code"] == "urdf_extra"}
+    assert "REP 105's odom frame is published by odometry or localization" in extras["odom"], extras
+    assert "the robot's base as its odometry publishes it" in extras["base_footprint"], extras
+    assert not any("camera or lidar" in hint for hint in extras.values()), extras  # the lead's mend, on corpus32's note
 
 
 def test_odometry_sent_three_times_a_stamp_is_said_three_times(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

@@ -19,7 +19,8 @@ from tftools.analysis.description import (
 )
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.registry import declare, register
-from tftools.analysis.wtf.scene import Scene, and_joined, listed
+from tftools.analysis.wtf.scene import Scene, and_joined, base_name, listed
+from tftools.analysis.wtf.topics import WORLD_FRAMES
 from tftools.core.rotation import Quat, Vec3, rpy_rebuilding
 from tftools.sources.urdf import Joint
 
@@ -284,12 +285,18 @@ def urdf_extra(scene: Scene) -> Iterator[Finding]:
             f"fine: odometry and localization (odom, map, world) publish the frames above the robot, not {RSP}",
             frames=tuple(e.frame for e in above),
         )
-    # REP 105's odometry frame above the robot (a namespace kept: robot1/odom)
-    odometry = {e.frame for e in above if e.frame.rsplit("/", 1)[-1] == "odom"}
+    # REP 105's odometry frame above the robot, or heading a tree apart from its links (a namespace kept: robot1/odom)
+    odometry = {e.frame for e in extras if (e.above or e.parent is None) and base_name(e.frame) == "odom"}
     for e in under:
         by = scene.by(e.authorities)
         summary = scene.tree.frames.get(e.frame)
-        if e.parent in odometry and summary is not None and not summary.static:
+        if e.parent is None and base_name(e.frame) in WORLD_FRAMES:
+            # the e-Yantra Hologlyph bags: Gazebo's odometry heads odom -> base_footprint beside the URDF's tree
+            hint = (
+                f"fine: REP 105's {base_name(e.frame)} frame is published by odometry or localization, not a link "
+                f"{RSP} places; here it heads none of the robot's links (a tree apart from them)"
+            )
+        elif e.parent in odometry and summary is not None and not summary.static:
             # the real create3 (ros2_db3_create3_real_two_urdfs): its odometry moves base_footprint beside base_link
             hint = (
                 f"fine: a frame moving under {e.parent} is the robot's base as its odometry publishes it (REP 105: "
