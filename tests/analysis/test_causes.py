@@ -148,6 +148,25 @@ def test_a_post_dating_publisher_beside_a_clock_ahead_is_its_own_future() -> Non
     assert sorted((f.frames, f.cause) for f in future) == [(("map", "odom"), ""), (("odom", "base_link"), "")]
 
 
+def _fixed_joint(stamp: int) -> list[Transform]:
+    return [scenes._t("base_link", "imu_link", stamp, 0.1)]  # one value throughout: a fixed joint on /tf
+
+
+@pytest.mark.parametrize(("joint", "beneath"), [(_fixed_joint, True), (scenes.wheel, False)])
+def test_ros1_rsp_s_fixed_joints_half_a_second_further_ahead_are_the_same_clock(
+    joint: Callable[[int], list[Transform]], beneath: bool
+) -> None:
+    """A real Robotnik Guardian (ros1-robotnik-guardian-real-tilting-laser-pallet-...-2014-bag): its clock 7.6 s
+    ahead, and the fixed joints ROS 1's robot_state_publisher sends on /tf 8.1 s ahead (it stamps them now + 0.5 s):
+    two future errors for one clock. A fixed joint 0.5 s further ahead is beneath the clock's; a moving edge
+    0.5 s further ahead is another publisher's post-dating, its own."""
+    rsp = scenes.periodic("/rsp", 20, joint, stamp=_ahead(3.9))
+    messages = scenes.healthy(amcl=[], ekf=scenes.ekf(stamp=_ahead(3.4)), wheels=rsp)
+    future = [f for f in check(scenes.recording(messages)).findings if f.code == "future"]
+    assert [f.frames[0] for f in future] == ["odom", "base_link"], future
+    assert future[1].cause == ("future:1" if beneath else ""), future
+
+
 def test_edges_of_one_message_that_stop_together_are_one_stale_with_the_other_beneath() -> None:
     """robot_state_publisher's two wheels (one message) stop 4 s into 10 (the real TurtleBot3's wheels after
     its Wi-Fi outage): one publisher stopped, said once; an edge of another publisher stopping is its own."""

@@ -69,3 +69,20 @@ def test_a_ground_truth_repeating_its_stamp_2_to_24_times_is_one_publisher_not_t
     assert ("multiple_authorities", ("base_footprint", "map_ground_truth")) not in said, said.keys()
     repeated = said[("time_backwards", ("base_footprint", "map_ground_truth"))]
     assert "11354 transforms with a stamp it had already sent" in repeated["message"], repeated["message"]
+
+
+def test_a_clock_ahead_and_rsp_s_fixed_joints_half_a_second_further_are_one_future(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """The December Guardian's clock runs 7.6 s ahead of the recorder's; ROS 1's robot_state_publisher stamps the
+    fixed joints it sends on /tf 0.5 s further (8.1 s). wtf said two future errors, 6 and 7 edges, for one clock
+    (corpus33's note); now one, the 12 other edges beneath it, the verdict unchanged."""
+    code, out = (r := tfx("wtf", corpus(BY_ID[GUARDIAN_DECEMBER]), "--format", "json")).code, r.stdout
+    (bag,) = json.loads(out)["bags"]
+    future = [f for f in bag["findings"] if f["code"] == "future"]
+    (head,) = [f for f in future if not f["cause"]]
+    assert head["frames"] == ["odom", "base_footprint"] and len(future) == 13, future
+    assert all(f["cause"] == head["key"] for f in future if f is not head)
+    assert {round(f["figures"]["ahead_s_median"], 1) for f in future} == {7.6, 8.1}
+    assert code == 1 and bag["verdict"] == "failed"

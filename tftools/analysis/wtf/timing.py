@@ -186,9 +186,9 @@ def future(scene: Scene) -> Iterator[Finding]:
                 stamps[early],
             )
             typical = float(np.median(ahead[early])) / NS_PER_S  # one clock ahead: the same on every edge it stamps
-            yield dataclasses.replace(
-                finding, authorities=by, figures={"ahead_s_median": typical, "ahead_s_max": ahead.max() / NS_PER_S}
-            )
+            constant = float(bool((e.values == e.values[0]).all()))  # a fixed joint sent on /tf
+            figures = {"ahead_s_median": typical, "ahead_s_max": ahead.max() / NS_PER_S, "constant": constant}
+            yield dataclasses.replace(finding, authorities=by, figures=figures)
 
 
 def _senders(scene: Scene, e: EdgeSamples, stamps: Int64Array, early: BoolArray) -> tuple[tuple[str, ...], int]:
