@@ -575,10 +575,9 @@ def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Ar
     keys = (times, ties, positions)
     later = np.zeros(len(times) - 1, bool)
     equal = np.ones(len(times) - 1, bool)
-    for key in keys:
-        step = np.diff(key)
-        later |= equal & (step > 0)
-        equal &= step == 0
+    for key in keys:  # compared, not subtracted: no int64 steps made (nor overflowed)
+        later |= equal & (key[1:] > key[:-1])
+        equal &= key[1:] == key[:-1]
     if later.all():
         return np.arange(len(times), dtype=np.int64)
     rank = np.empty(len(times), np.int64)
