@@ -61,6 +61,12 @@ def _a_core_free() -> bool:
         return False
 
 
+def a_core_aside() -> bool:
+    """Whether work may be done on another core than the caller's now, beside it: two cores or more, and one free
+    (``_a_core_free``). On one core, or every core taken, a thread would only take the caller's turns."""
+    return _cores() >= 2 and _a_core_free()
+
+
 #: Payloads of one codec added together: their bytes, where each payload begins in them and how
 #: long it is, and their message numbers.
 _Piece = tuple[bytes, Int64Array, Int64Array, Int64Array]
@@ -287,7 +293,7 @@ class MessageSet:
         if self.window is not None or not isinstance(codec, Codec) or not isinstance(codec.decode, SteppedDecoder):
             return False
         if self._ahead is None:
-            self._ahead = _cores() >= 2 and _a_core_free()
+            self._ahead = a_core_aside()
         if not self._ahead:
             return False
         self._under_way = codec.decode.start(raw, starts, lengths), ids
