@@ -214,6 +214,40 @@ def test_payloads_decoded_on_another_thread_make_the_same_recording(monkeypatch:
     assert not started
 
 
+@pytest.mark.parametrize("name", ["robot.bag", "robot_db3", "robot_mcap"])
+def test_pages_given_back_on_another_core_make_the_same_recording(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
+    """Where another core is free, ``recording_of`` gives the freed parts' pages back (``malloc_trim``) on a thread
+    of its own while it inserts the next part, one at a time, and the last at once on its own thread; else each at
+    once. The histories, refusals and sent messages are the same either way (here a trim after every part)."""
+    import threading
+
+    from tftools.sources import recording as module
+
+    trims: list[str] = []
+    monkeypatch.setattr(module, "_malloc_trim", lambda: lambda pad: trims.append(threading.current_thread().name))
+    monkeypatch.setattr(module, "FREED_BYTES_TO_GIVE_BACK", 1)
+    found, where = [], []
+    for aside in (False, True):
+        monkeypatch.setattr(module, "a_core_aside", lambda aside=aside: aside)
+        trims.clear()
+        recording = recording_of(read_contents([SAMPLE_BAGS / name]))
+        columns = ("stamps", "values", "parents", "authorities", "record_times", "sequence", "flags")
+        found.append(
+            (
+                [(child, [getattr(h, c).tobytes() for c in columns]) for child, h in recording.buffer.histories()],
+                batch_rows(recording.refused),
+                recording.refused_sequence.tolist(),
+                _sent(recording.contents.sent),
+            )
+        )
+        where.append(list(trims))
+    assert found[0] == found[1]
+    caller = threading.current_thread().name
+    assert len(where[0]) == len(where[1]) >= 2  # a trim after each part, and the last
+    assert set(where[0]) == {caller}
+    assert set(where[1][:-1]) == {"tfx-give-back"} and where[1][-1] == caller
+
+
 def _sent(sent: SentMessages | None) -> object:
     if sent is None:
         return None

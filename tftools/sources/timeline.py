@@ -651,7 +651,12 @@ class TickedGrid:
 
 def shared_ticks(histories: Sequence[EdgeHistory]) -> int:
     """Samples of one edge with other stamps recorded at one instant (received within one tick), in pairs."""
-    return sum(int(((np.diff(h.record_times) == 0) & (np.diff(h.stamps) != 0)).sum()) for h in histories)
+    return sum(_shared(h.record_times, h.stamps) for h in histories)
+
+
+def _shared(record_times: Int64Array, stamps: Int64Array) -> int:
+    """Consecutive samples recorded at one instant with other stamps (compared, not subtracted)."""
+    return int(np.count_nonzero((record_times[1:] == record_times[:-1]) & (stamps[1:] != stamps[:-1])))
 
 
 def record_grid(record_times: Int64Array) -> int:

@@ -61,6 +61,12 @@ def _a_core_free() -> bool:
         return False
 
 
+def a_core_aside() -> bool:
+    """Whether work may be done on another core than the caller's now, beside it: two cores or more, and one free
+    (``_a_core_free``). On one core, or every core taken, a thread would only take the caller's turns."""
+    return _cores() >= 2 and _a_core_free()
+
+
 #: Payloads of one codec added together: their bytes, where each payload begins in them and how
 #: long it is, and their message numbers.
 _Piece = tuple[bytes, Int64Array, Int64Array, Int64Array]
@@ -287,7 +293,7 @@ class MessageSet:
         if self.window is not None or not isinstance(codec, Codec) or not isinstance(codec.decode, SteppedDecoder):
             return False
         if self._ahead is None:
-            self._ahead = _cores() >= 2 and _a_core_free()
+            self._ahead = a_core_aside()
         if not self._ahead:
             return False
         self._under_way = codec.decode.start(raw, starts, lengths), ids
@@ -575,10 +581,9 @@ def _rank(times: Int64Array, ties: Int64Array, positions: Int64Array) -> Int64Ar
     keys = (times, ties, positions)
     later = np.zeros(len(times) - 1, bool)
     equal = np.ones(len(times) - 1, bool)
-    for key in keys:
-        step = np.diff(key)
-        later |= equal & (step > 0)
-        equal &= step == 0
+    for key in keys:  # compared, not subtracted: no int64 steps made (nor overflowed)
+        later |= equal & (key[1:] > key[:-1])
+        equal &= key[1:] == key[:-1]
     if later.all():
         return np.arange(len(times), dtype=np.int64)
     rank = np.empty(len(times), np.int64)

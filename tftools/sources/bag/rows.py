@@ -77,8 +77,11 @@ class Rows:
             for parts in self.parts.values():
                 parts[len(self.runs) :] = [np.concatenate(parts[len(self.runs) :])[order]]
         self.messages = []
-        firsts = np.flatnonzero(np.diff(message, prepend=-1))
-        self.runs.append((message[firsts], np.diff(np.append(firsts, len(message)))))
+        first = np.empty(len(message), bool)  # where a message's rows begin: compared, not subtracted (no
+        first[0] = True  # int64 steps made and faulted in, a part after another)
+        np.not_equal(message[1:], message[:-1], out=first[1:])
+        firsts = np.flatnonzero(first)
+        self.runs.append((message[firsts], np.diff(firsts, append=len(message))))
 
     def sent(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> SentMessages:
         """The messages settled that held a transform, in record order (``rank``), with their first row's stamp."""
