@@ -106,6 +106,9 @@ def test_an_output_named_without_a_suffix_gets_its_format_s(tfx: Tfx, tmp_path: 
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tree.pdf", "tree.svg"]
     waited = tfx("view-frames", "--wait-time", "10")
     assert waited.code == 2 and "No such option: --wait-time (did you mean --duration?" in waited.stderr
+    waited = tfx("view-frames", "-b", SAMPLE_BAGS["db3"], "-t", "10")  # view_frames' -t: tfx's --topic
+    assert waited.code == 2 and "tfx view-frames --duration 10" in waited.stderr, waited.stderr
+    assert "no transforms on 10" not in waited.stderr
 
 
 @pytest.mark.parametrize("bag", bag_formats())

@@ -97,6 +97,7 @@ def command(
     from tftools.render import graph as render
     from tftools.sources.bag.robot import ROBOT_TOPICS
 
+    _no_wait_time(topics or [])
     chosen, target = _output(output, fmt, bags or [], force)
     # read as tfx wtf reads a bag (its sensor data's headers, the robot's description): the same checks and count
     headers = () if bags else None  # live, as tfx wtf: no sensor topic unless named
@@ -152,3 +153,18 @@ def _bare(output: str) -> bool:
 
 def _suffix(fmt: GraphFormat) -> str:
     return next(suffix for suffix, named in SUFFIXES.items() if named is fmt)
+
+
+def _no_wait_time(topics: Sequence[str]) -> None:
+    """``tfx view-frames -t 10``: ROS 2's view_frames' ``-t`` is its listening time (``--wait-time``), tfx's a
+    topic; a ROS name never starts with a digit, so a number there is the listening time."""
+    for topic in topics:
+        try:
+            seconds = float(topic)
+        except ValueError:
+            continue
+        raise UsageError(
+            f"-t {topic}: tfx view-frames' -t names a topic of transforms, and {topic} is no topic name",
+            f"to listen {seconds:g} s first, as ROS 2's view_frames -t {topic} does: tfx view-frames --duration "
+            f"{topic}",
+        )
