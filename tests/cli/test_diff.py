@@ -215,6 +215,7 @@ def test_a_recording_without_transforms_is_an_empty_tree_not_unusable(
     assert tfx("diff", bag, tmp_path / "tree.yaml").code == tfx("diff", tmp_path / "tree.yaml", bag).code == 0
     against = json.loads(tfx("diff", runs["good"], bag, "--format", "json").stdout)
     assert against["exit_code"] == 1 and {d["change"] for d in against["differences"]} == {"lost"}
+    assert against["b_empty"] == "no transforms on /tf, /tf_static" and against["a_empty"] is None, against
     elsewhere = [TfMessage("/odom_tf", START + i, [], "/x") for i in range(3)]
     other = write(tmp_path, "odom_only", BagFormat.rosbag2_sqlite3, elsewhere)
     refused = tfx("diff", other, other)

@@ -28,13 +28,16 @@ def write_text(a: TreeShape, b: TreeShape, differences: list[Difference], tolera
 def write_json(
     a: TreeShape, b: TreeShape, differences: list[Difference], tolerances: Tolerances, exit_code: int, out: IO[str]
 ) -> None:
-    """One document: the two sides, the tolerances, whether they differ, and each difference with its message."""
+    """One document: the two sides (with why one has no frame: ``a_empty``, ``b_empty``, null where it has), the
+    tolerances, whether they differ, and each difference with its message."""
     jsonl.write_document(
         {
             "tool": "tfx diff",
             "version": __version__,
             "a": a.source,
             "b": b.source,
+            "a_empty": a.empty or None,
+            "b_empty": b.empty or None,
             "tolerances": asdict(tolerances),
             "differ": bool(differences),
             "exit_code": exit_code,
