@@ -180,21 +180,19 @@ def _disagreeing(
     named = and_joined(names) if len(names) <= 3 else listed(names, 3)
     following = f" (which {named} follow{'s' if len(agreeing) == 1 else ''})"
     following = following if agreeing else ""  # "behind the recording's clock and odom" read as two things
+    on_wall_clock = (
+        f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by the record "
+        f"clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s)"
+    )
     said = {
         "boot": f"stamped around {stamp:.1f} s, a clock counting from boot or a simulation's start, while "
         f"{clock_name}{following} reads {reference:.1f} s (epoch time)",
         "simulated": f"stamped with wall-clock time ({stamp:.1f} s) while {clock_name}{following} runs on simulated "
         f"time ({reference:.1f} s)",
-        "device": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
-        f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s); a tree of "
-        "their own: a device on the wall clock beside the simulation",
-        "described": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
-        f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s): joints of "
-        f"{source}, robot_state_publisher's",
-        "joined": f"stamped with wall-clock time ({stamp:.1f} s), arriving {_after(edges)} after their stamps by "
-        f"the record clock, while {clock_name}{following} runs on simulated time ({reference:.1f} s), in one tree "
-        f"with them ({_tree_of(scene, edges)}): a publisher on the wall clock (a node without use_sim_time, or a "
-        "real device's driver) joined to the simulated frames",
+        "device": f"{on_wall_clock}; a tree of their own: a device on the wall clock beside the simulation",
+        "described": f"{on_wall_clock}: joints of {source}, robot_state_publisher's",
+        "joined": f"{on_wall_clock}, in one tree with them ({_tree_of(scene, edges)}): a publisher on the wall "
+        "clock (a node without use_sim_time, or a real device's driver) joined to the simulated frames",
         "zero": f"stamped around {stamp:.1f} s, on a clock counting from zero (a simulation's time or time since "
         f"boot: no /clock was recorded to tell which), while {clock_name}{following} reads {reference:.1f} s "
         "(epoch time)",
