@@ -107,9 +107,31 @@ def statics_missing(scene: Scene, what: str, also: str = "", renamed: str = "") 
             _no_topic(statics, f"{what} (robot_state_publisher's fixed joints, static_transform_publisher)", record)
             + also
         )
+    return f"{and_joined(statics)}{_RECORDED_EMPTY}: {_DID_NOT_RUN}{also}"
+
+
+#: ``statics_missing``'s words where /tf_static was recorded without a transform, and the publishers it blames,
+#: which ``_not_described`` replaces where the description has no such link.
+_RECORDED_EMPTY = " was recorded but holds no transform"
+_DID_NOT_RUN = (
+    "its publishers (robot_state_publisher, static_transform_publisher) sent nothing while recorded; "
+    "check that they ran"
+)
+
+
+def _not_described(scene: Scene, missing: list[str], unrecorded: str) -> str:
+    """Why /tf_static holds no mount of ``missing`` where the robot's description has no such link: nothing to
+    send, not a publisher that failed to run (``unrecorded``'s words otherwise). A student's disc-robot simulator
+    (PlaidTrack/CSCE-452-Project-4, project4c test1): a URDF of base_link alone, robot_state_publisher's one
+    /tf_static message empty, its scans in 'laser'."""
+    robot = scene.robot
+    if robot is None or not unrecorded.endswith(_DID_NOT_RUN) or set(missing) & set(robot.description.links):
+        return unrecorded
     return (
-        f"{and_joined(statics)} was recorded but holds no transform: its publishers (robot_state_publisher, "
-        f"static_transform_publisher) sent nothing while recorded; check that they ran{also}"
+        f"{unrecorded.removesuffix(': ' + _DID_NOT_RUN)}, and {robot.description.source} has no link "
+        f"{listed([repr(f) for f in missing], 3)} "
+        f"(its links: {listed(list(robot.description.links), 5)}): robot_state_publisher had no mount of it to "
+        "send; add the link and a fixed joint to it to the URDF, or publish the mount with static_transform_publisher"
     )
 
 
@@ -160,7 +182,7 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
     # the missing part is its publisher's output, not a frame_id.
     renamed = ", or set the driver's frame_id parameter to the frame of the tree the sensor is at"
     if (unrecorded := statics_missing(scene, "the sensors' mounts", also, renamed)) is not None:
-        return unrecorded
+        return _not_described(scene, missing, unrecorded)
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
     named = {base_name(f) for f in missing}

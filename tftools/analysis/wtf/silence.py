@@ -253,6 +253,31 @@ def _new_samples(parents: Int32Array, children: Int32Array, stamps: Int64Array) 
     return new
 
 
+def _empty_messages(tally: TopicTally) -> str:
+    """How many of a topic's messages carry no transform: all of them said so, not '1 of 1 ... (0 transforms in
+    the others)'."""
+    exactly = "" if tally.empty == tally.empty_at_most else "at least "
+    if tally.empty == tally.messages:
+        every = "its only message" if tally.messages == 1 else f"all {tally.messages:,} messages"
+        return f"{every} on {tally.topic} {'carries' if tally.messages == 1 else 'carry'} no transform"
+    others = f"({counted(tally.transforms, 'transform')} in the others)"
+    return f"{exactly}{tally.empty:,} of {tally.messages:,} messages on {tally.topic} carry no transform {others}"
+
+
+def _no_fixed_joint(scene: Scene, tally: TopicTally) -> str | None:
+    """Why /tf_static's messages are empty where the robot's description has no fixed joint: robot_state_publisher
+    sends its fixed joints there, none (a student's disc-robot simulator, PlaidTrack/CSCE-452-Project-4: a URDF of
+    base_link alone, its one /tf_static message empty); None otherwise."""
+    robot = scene.robot
+    if not tally.static or tally.transforms or robot is None or any(not j.moving for j in robot.description.joints):
+        return None
+    return (
+        f"robot_state_publisher sends the fixed joints on {tally.topic}, and {robot.description.source} has none "
+        f"(its links: {listed(list(robot.description.links), 5)}): an empty message, harmless itself; a sensor "
+        "mounted on the robot needs its link and a fixed joint in the URDF"
+    )
+
+
 def _range(shortest: float, longest: float) -> str:
     if duration(shortest) == duration(longest):
         return duration(longest)
@@ -270,21 +295,21 @@ def silent_tf(scene: Scene) -> Iterator[Finding]:
                 "offered QoS) and not one message was recorded: nothing in this recording moves"
             )
         if tally.empty:
-            exactly = "" if tally.empty == tally.empty_at_most else "at least "
-            said.append(
-                f"{exactly}{tally.empty:,} of {tally.messages:,} messages on {tally.topic} carry no transform "
-                f"({counted(tally.transforms, 'transform')} in the others)"
-            )
+            said.append(_empty_messages(tally))
         if not said:
             continue
-        warning = tally in silent or tally.empty * 2 > tally.messages  # mostly empty: a publisher gone wrong
+        fixed_none = _no_fixed_joint(scene, tally)
+        # mostly empty: a publisher gone wrong; robot_state_publisher's static message with no fixed joint is not
+        warning = tally in silent or (tally.empty * 2 > tally.messages and fixed_none is None)
         hints = []
         if tally in silent:
             hints.append(
                 "the moving transforms' publishers ran but sent nothing while recorded (their input never came: "
                 "joint states, odometry, a clock), or the recorder missed them: lookups through them all fail"
             )
-        if tally.empty:
+        if tally.empty and fixed_none is not None:
+            hints.append(fixed_none)
+        elif tally.empty:
             named = scene.list_publishers(tally.topic)
             hints.append(f"a node sending tf messages without transforms is misconfigured: {named} names them")
         yield Finding(

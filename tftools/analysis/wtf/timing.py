@@ -358,6 +358,11 @@ def _rhythm(
             message = f"{what}, a detection ({detected[0]}), is {detected[1].in_words()}"
             yield Finding(Severity.warning, code, message, DETECTION_GAPS, frames, who, span[0], span[1], len(arrivals))
             return
+        runs = _paused_runs(intervals, step) if usual > (1 + IRREGULAR) * np.median(intervals) else None
+        if runs is not None:
+            message, hint = f"{what} publishes irregularly: {runs[0]}", runs[1]
+            yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
+            return
         message = (
             f"{what} publishes irregularly: {_off_share(intervals, step, usual):.0%} of its intervals are more "
             f"than {IRREGULAR:.0%} off the {duration(usual / NS_PER_S)} it keeps up most of the time (from "
@@ -407,6 +412,35 @@ def _one_stretch(intervals: Int64Array, off: BoolArray, usual: int) -> str:
     )
     said = f", all {len(where)} of them in a row {place}"
     return f"{said}: {burst}" if (intervals[where] < usual).all() else said
+
+
+def _paused_runs(intervals: Int64Array, step: int) -> tuple[str, str] | None:
+    """A rhythm kept by most intervals, broken by pauses spread among them (not one stretch: ``_one_stretch``'s
+    start-up burst), said as such, with how often they come where they recur steadily; None otherwise. A student's
+    disc-robot simulator (shaheenebrahimi/DDMR, out4) sends every 0.100 s but stops for 0.63-0.70 s once a second
+    while it computes its scan: by time the pauses are most of the stream, and 'the 0.637 s it keeps up most of the
+    time' named them as its rhythm, 81% of the intervals 'off' it."""
+    period = int(np.median(intervals))
+    kept = np.abs(intervals - period) <= IRREGULAR * period + step
+    paused = np.flatnonzero(intervals > (1 + IRREGULAR) * period + step)
+    if kept.mean() < 0.5 or len(paused) < BURST_MIN or paused[-1] - paused[0] + 1 == len(paused):
+        return None
+    lengths = intervals[paused] / NS_PER_S
+    said = (
+        f"every {duration(period / NS_PER_S)} in runs, broken {counted(len(paused), 'time')} by pauses of "
+        f"{duration(lengths.min())}" + (f" to {duration(lengths.max())}" if lengths.max() > lengths.min() else "")
+    )
+    starts = np.concatenate(([0], np.cumsum(intervals)))[paused]
+    cycles = np.diff(starts)
+    cycle = float(np.median(cycles))
+    if len(cycles) >= BURST_MIN and np.mean(np.abs(cycles - cycle) <= IRREGULAR * cycle) >= 1 - IRREGULAR_SHARE:
+        said += f", about one every {duration(cycle / NS_PER_S)}"
+    share = float(lengths.sum()) * NS_PER_S / float(intervals.sum())
+    hint = (
+        f"lookups inside a pause interpolate across up to {duration(lengths.max())}: something holds the publisher "
+        "up between its sends (work in the same thread, a blocking call); publish on a timer nothing blocks"
+    )
+    return f"{said} ({share:.0%} of its time)", hint
 
 
 def _cyclic(intervals: Int64Array) -> bool:
