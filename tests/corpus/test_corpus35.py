@@ -5,6 +5,7 @@ on the recording that showed it; the designed reproductions are beside the code'
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
@@ -14,7 +15,7 @@ PAUSES = "ros2-csce452-disc-robot-own-simulator-tf-pauses-while-scanning-two-sta
 ONE_LINK = "ros2-csce452-disc-robot-own-simulator-scan-frame-never-on-tf-rsp-empty-tf-static-2023-db3"
 
 
-def _findings(tfx: Tfx, path: object) -> tuple[int, list[dict[str, Any]]]:  # noqa: F811
+def _findings(tfx: Tfx, path: Path) -> tuple[int, list[dict[str, Any]]]:  # noqa: F811
     result = tfx("wtf", path, "--format", "json")
     (bag,) = json.loads(result.stdout)["bags"]
     return result.code, bag["findings"]
