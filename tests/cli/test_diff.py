@@ -94,6 +94,36 @@ def test_diff_says_how_far_a_mount_sent_on_tf_moved_never_changing_in_either(tfx
     assert tfx("diff", before, write(tmp_path, "again", BagFormat.ros1, _mount_on_tf(0.0))).code == 0
 
 
+def _laser_held_on_tf(laser_x: float) -> list[TfMessage]:
+    """A healthy run whose simulator sends the laser mount on /tf at 50 Hz, never changing, at x = ``laser_x``
+    (the camera stays on /tf_static)."""
+    camera = Transform.from_rpy((0.1, 0.0, 0.1), (0.0, 0.0, 0.0), START, "base_link", "camera")
+
+    def laser(stamp: int) -> list[Transform]:
+        return [Transform.from_rpy((laser_x, 0.0, 0.1), (0.0, 0.0, 0.0), stamp, "base_link", "laser")]
+
+    statics_of_the_camera = [TfMessage("/tf_static", START + DELAY, [camera], "/rsp")]
+    return healthy(
+        statics=statics_of_the_camera, wheels=[*periodic("/rsp", 20, _turning_wheel), *periodic("/sim", 50, laser)]
+    )
+
+
+def test_diff_says_how_far_a_mount_moved_static_in_one_held_on_tf_in_the_other(tfx: Tfx, tmp_path: Path) -> None:
+    """MIT's real RSS racecar (static_transform_publisher: laser at (0.285, 0, 0.127)) beside the course's
+    racecar_simulator (the laser on /tf at 50 Hz at (0.275, 0, 0)): diff said the edge was static in one and
+    moving in the other, not that the mount sat 127 mm apart. Within the tolerance it says only the former."""
+    real = write(tmp_path, "real", BagFormat.ros1, healthy())  # the laser on /tf_static at x = 0.2
+    result = tfx("diff", real, write(tmp_path, "sim", BagFormat.ros1, _laser_held_on_tf(0.26)))
+    assert result.code == 1, result.stdout
+    assert "static      base_link -> laser is static in A, moving at 50.0 Hz in B" in result.stdout, result.stdout
+    assert (
+        "moved       base_link -> laser moved by 60.0 mm and 0.00°: xyz [0.2000, 0.0000, 0.1000] m rpy [0.00, 0.00, "
+        "0.00]° in A (static), xyz [0.2600, 0.0000, 0.1000] m rpy [0.00, 0.00, 0.00]° in B (on /tf, never changing)"
+    ) in result.stdout, result.stdout
+    same_place = tfx("diff", real, write(tmp_path, "sim_same", BagFormat.ros1, _laser_held_on_tf(0.2)))
+    assert "moved" not in same_place.stdout and "is static in A" in same_place.stdout, same_place.stdout
+
+
 def _two_static_publishers(laser_first: bool) -> list[TfMessage]:
     """A healthy run whose /tf_static also carries a driver's laser-only message at x = 0.3 m beside
     robot_state_publisher's 0.2 m, 4 ms apart: the driver's first (tf2 keeps 0.2) or last (tf2 keeps 0.3)."""

@@ -75,14 +75,34 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
             found.append(Difference(Change.rate, name, before, after, rate_change=change))
         if before.clocks is not None and after.clocks is not None and before.clocks != after.clocks:
             found.append(Difference(Change.clocks, name, before, after))
-        if before.held is not None and after.held is not None:  # a mount on /tf at 50 Hz moved as much as on /tf_static
-            mm, deg = _apart(before.held.translation, before.held.rotation, after.held.translation, after.held.rotation)
-            if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
-                found.append(Difference(Change.moved, name, before, after, translation_mm=mm, rotation_deg=deg))
+    if not (before.static and after.static):
+        found.extend(_held_moved(before, after, tolerances))
     known = before.publishers is not None and after.publishers is not None
     if known and set(before.publishers or ()) != set(after.publishers or ()):
         found.append(Difference(Change.publishers, name, before, after))
     return found
+
+
+def _held_moved(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+    """A mount held on /tf moved as much as one on /tf_static: compared where one side or both send it on /tf
+    never changing (``held``), the other on /tf_static (a simulator's laser at 50 Hz beside the real robot's
+    static_transform_publisher) or on /tf too."""
+    a, b = _fixed(before), _fixed(after)
+    if a is None or b is None:
+        return []
+    mm, deg = _apart(*a, *b)
+    if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
+        return [Difference(Change.moved, before.frame, before, after, translation_mm=mm, rotation_deg=deg)]
+    return []
+
+
+def _fixed(f: FrameShape) -> tuple[Vec3, Quat] | None:
+    """An edge's one value: held on /tf, or static; None where it moves or its value is not known."""
+    if f.held is not None:
+        return f.held.translation, f.held.rotation
+    if f.static and f.translation is not None and f.rotation is not None:
+        return f.translation, f.rotation
+    return None
 
 
 def rates_apart(a: float | None, b: float | None) -> float:
@@ -159,6 +179,11 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"{edge} (on /tf, never changing in either) moved by {d.translation_mm:.1f} mm and "
             f"{d.rotation_deg:.2f}°: {_value(before.held)} in {a}, {_value(after.held)} in {b}"
         )
+    if d.change is Change.moved and (before.held is not None or after.held is not None):
+        return (
+            f"{edge} moved by {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}°: {_value(before.held or before)} "
+            f"in {a} ({_sent(before)}), {_value(after.held or after)} in {b} ({_sent(after)})"
+        )
     if d.change is Change.moved:
         several = "".join(
             f"; {side} received {len(f.received)} values of it on /tf_static ({_received(f)}), tf2 keeps the last"
@@ -186,6 +211,10 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         f"{edge} published by {', '.join(after.publishers or ()) or 'nobody'} in {b}, "
         f"by {', '.join(before.publishers or ()) or 'nobody'} in {a}"
     )
+
+
+def _sent(f: FrameShape) -> str:
+    return "on /tf, never changing" if f.held is not None else "static"
 
 
 def _rate(hz: float) -> str:
