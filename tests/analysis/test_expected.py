@@ -372,7 +372,7 @@ def test_a_wheel_held_still_in_one_recording_and_turning_in_the_other_is_compare
     moved = shape_of(recording(healthy(wheels=periodic("/rsp", 20, _held_wheel(0.265)))))
     (d,) = compare(turning, moved, Tolerances())
     assert (d.change, d.frame) == (Change.moved, "wheel")
-    assert (d.translation_mm, d.rotation_deg) == (pytest.approx(65.0), 0.0)
+    assert d.translation_mm == pytest.approx(65.0) and d.rotation_deg == 0.0
     said = describe(d)
     assert said.startswith(
         "base_link -> wheel (on /tf) moved by 65.0 mm (its translation, fixed in both): at xyz [0.0000, 0.2000, "
@@ -400,13 +400,14 @@ def test_an_edge_of_two_publishers_is_compared_publisher_by_publisher(tmp_path: 
         ("/bridge", 20.0),
         ("/ekf", 50.0),
     ]
-    assert late.frames["base_link"].rate_hz < 0.75 * whole.frames["base_link"].rate_hz  # the sums are apart
+    sums = late.frames["base_link"].rate_hz or 0.0, whole.frames["base_link"].rate_hz or 0.0
+    assert 0 < sums[0] < 0.75 * sums[1]  # the sums are apart
     assert compare(late, whole, Tolerances()) == [] == compare(whole, late, Tolerances())
     slow = shape_of(
         recording(healthy(ekf=sorted(periodic("/ekf", 25, odom_base) + bridge, key=lambda m: m.record_time)))
     )
     (d,) = compare(whole, slow, Tolerances())
-    assert (d.change, d.source, d.rate_change) == (Change.rate, "/ekf", pytest.approx(-0.5))
+    assert (d.change, d.source) == (Change.rate, "/ekf") and d.rate_change == pytest.approx(-0.5)
     assert describe(d) == "odom -> base_link from /ekf at 25.0 Hz in B, 50.0 Hz in A (B 50% slower)"
     written = io.StringIO()
     write_tree(late, written)

@@ -136,7 +136,7 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
         rotation: Quat | None = None
         received: tuple[StaticValue, ...] = ()
         hist = buffer.history(name)
-        moving = not summary.static and hist is not None and len(hist) > 0
+        moving = hist if not summary.static and hist is not None and len(hist) else None
         if summary.static and hist is not None and len(hist):
             latest = int(np.argmax(hist.sequence))
             translation, rotation = _value(hist.values[latest])
@@ -152,11 +152,11 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             received=received,
             on_tf_hz=_on_tf_hz(hist) if summary.static and hist is not None else 0.0,
             clocks=summary.clocks,
-            held=held(hist) if moving else None,
-            motion=motion(hist) if moving else None,
-            rates=source_rates(buffer, hist, named) if moving else (),
-            epoch=_epoch(hist) if moving else None,
-            pace=_pace(hist) if moving else None,
+            held=held(moving) if moving is not None else None,
+            motion=motion(moving) if moving is not None else None,
+            rates=source_rates(buffer, moving, named) if moving is not None else (),
+            epoch=_epoch(moving) if moving is not None else None,
+            pace=_pace(moving) if moving is not None else None,
         )
     return TreeShape(frames, " + ".join(recording.paths))
 
