@@ -347,9 +347,7 @@ def test_an_edge_stamped_on_two_clocks_in_one_recording_only_differs(tmp_path: P
     assert (two.frames["odom"].clocks, one.frames["odom"].clocks) == (2, 1)
     clocks, publishers = compare(one, two, Tolerances())  # /amcl's rate is the same in both: no rate difference
     assert (clocks.change, clocks.frame, publishers.change) == (Change.clocks, "odom", Change.publishers)
-    assert describe(clocks).startswith(
-        "map -> odom is stamped on 2 clocks (/amcl 10.0 Hz, /replay 10.0 Hz) in B, on one clock in A (stamps further"
-    )
+    assert describe(clocks).startswith("map -> odom is stamped on 2 clocks in B, on one clock in A (stamps further")
     assert describe(publishers) == "map -> odom published by /amcl (10.0 Hz), /replay (10.0 Hz) in B, by /amcl in A"
     assert compare(two, two, Tolerances()) == []
     written = io.StringIO()
