@@ -94,6 +94,29 @@ def test_diff_says_how_far_a_mount_sent_on_tf_moved_never_changing_in_either(tfx
     assert tfx("diff", before, write(tmp_path, "again", BagFormat.ros1, _mount_on_tf(0.0))).code == 0
 
 
+def _two_localizers(amcl_hz: float, second_from: float) -> list[TfMessage]:
+    """A healthy run whose map -> odom comes from /amcl at ``amcl_hz`` and from /slam at 10 Hz from ``second_from``
+    s on (okoslam's odom -> base_link: a bridge's 20 Hz beside cartographer's 198 Hz from +3.7 s)."""
+    slam = periodic("/slam", 10, map_odom, start=second_from, phase=0.003)
+    return healthy(amcl=sorted(periodic("/amcl", amcl_hz, map_odom) + slam, key=lambda m: m.record_time))
+
+
+def test_diff_compares_an_edges_two_publishers_each_on_its_own(tfx: Tfx, tmp_path: Path) -> None:
+    """okoslam's cartographer bags: two publishers of one edge, one starting late in one recording, were "A 31%
+    slower" (their sum over spans that differ) though each kept its rate. Each publisher's rate is compared, and
+    the JSON says whose (``source``)."""
+    late = write(tmp_path, "late", BagFormat.ros1, _two_localizers(10, 4.0))
+    whole = write(tmp_path, "whole", BagFormat.ros1, _two_localizers(10, 0.0))
+    assert tfx("diff", late, whole).code == 0
+    slow = write(tmp_path, "slow", BagFormat.ros1, _two_localizers(4, 0.0))
+    result = tfx("diff", whole, slow, "--format", "json")
+    (rate,) = json.loads(result.stdout)["differences"]
+    assert (rate["change"], rate["source"], round(rate["rate_change"], 2)) == ("rate", "/amcl", -0.6)
+    assert rate["message"] == "map -> odom from /amcl at 4.0 Hz in B, 10.0 Hz in A (B 60% slower)"
+    assert [(r["source"], round(r["rate_hz"], 1)) for r in rate["a"]["rates"]] == [("/amcl", 10.0), ("/slam", 10.0)]
+    assert result.code == 1
+
+
 def _two_static_publishers(laser_first: bool) -> list[TfMessage]:
     """A healthy run whose /tf_static also carries a driver's laser-only message at x = 0.3 m beside
     robot_state_publisher's 0.2 m, 4 ms apart: the driver's first (tf2 keeps 0.2) or last (tf2 keeps 0.3)."""
