@@ -12,6 +12,7 @@ import pytest
 
 from tests.analysis.wtf_scenes import (
     FORMATS,
+    SIM_START,
     START,
     _t,
     amcl,
@@ -344,20 +345,98 @@ def test_an_edge_stamped_on_two_clocks_in_one_recording_only_differs(tmp_path: P
     two = shape_of(recording(healthy(amcl=sorted(amcl() + replayed, key=lambda m: m.record_time))))
     one = shape_of(recording(healthy()))
     assert (two.frames["odom"].clocks, one.frames["odom"].clocks) == (2, 1)
-    rate, clocks, publishers = compare(one, two, Tolerances())  # the edge's rate counts both publishers' samples
-    assert (rate.change, clocks.change, clocks.frame, publishers.change) == (
-        Change.rate,
-        Change.clocks,
-        "odom",
-        Change.publishers,
-    )
+    clocks, publishers = compare(one, two, Tolerances())  # /amcl's rate is the same in both: no rate difference
+    assert (clocks.change, clocks.frame, publishers.change) == (Change.clocks, "odom", Change.publishers)
     assert describe(clocks).startswith("map -> odom is stamped on 2 clocks in B, on one clock in A (stamps further")
+    assert describe(publishers) == "map -> odom published by /amcl (10.0 Hz), /replay (10.0 Hz) in B, by /amcl in A"
     assert compare(two, two, Tolerances()) == []
     written = io.StringIO()
     write_tree(two, written)  # a tree file does not say on how many clocks: no difference from it
     file = tmp_path / "tree.yaml"
     file.write_text(written.getvalue())
     assert compare(read_tree(file), two, Tolerances()) == [] == compare(two, read_tree(file), Tolerances())
+
+
+def _held_wheel(y: float) -> Callable[[int], list[Transform]]:
+    return lambda stamp: [Transform.from_rpy((0.0, y, 0.0), (0.0, math.pi, 0.0), stamp, "base_link", "wheel")]
+
+
+def test_a_wheel_held_still_in_one_recording_and_turning_in_the_other_is_compared_by_its_origin() -> None:
+    """The INESC Guardian's pallet run (corpus33) against its author's 2015 rewrite: its four wheels turning about
+    (+-0.3, +-0.265, 0) in one, held still at (+-0.3, +-0.33, 0) in the other, and diff said no difference. What
+    stays fixed in both, the wheel's origin, is compared as a held value is; a wheel held where the other turns
+    is none, nor an odometry at rest against one driving (nothing of it stays fixed)."""
+    turning = shape_of(recording(healthy()))
+    moved = shape_of(recording(healthy(wheels=periodic("/rsp", 20, _held_wheel(0.265)))))
+    (d,) = compare(turning, moved, Tolerances())
+    assert (d.change, d.frame) == (Change.moved, "wheel")
+    assert d.translation_mm == pytest.approx(65.0) and d.rotation_deg == 0.0
+    said = describe(d)
+    assert said.startswith(
+        "base_link -> wheel (on /tf) moved by 65.0 mm (its translation, fixed in both): at xyz [0.0000, 0.2000, "
+        "0.0000] m, turning by up to 1"
+    )
+    assert said.endswith("° in A, held at xyz [0.0000, 0.2650, 0.0000] m rpy [180.00, 0.00, 180.00]° in B"), said
+    (back,) = compare(moved, turning, Tolerances())
+    assert back.translation_mm == d.translation_mm
+    in_place = shape_of(recording(healthy(wheels=periodic("/rsp", 20, _held_wheel(0.2)))))
+    assert compare(turning, in_place, Tolerances()) == [] == compare(in_place, turning, Tolerances())
+    resting = shape_of(recording(healthy(ekf=periodic("/ekf", 50, lambda t: [_t("odom", "base_link", t, 3.0)]))))
+    assert resting.frames["base_link"].held is not None and turning.frames["base_link"].motion is not None
+    assert compare(turning, resting, Tolerances()) == []
+
+
+def test_an_edge_of_two_publishers_is_compared_publisher_by_publisher(tmp_path: Path) -> None:
+    """okoslam's cartographer bags: odom -> base_link from /odometry_bridge (20 Hz) and /cartographer_node
+    (198 Hz), cartographer starting 3.7 s into one of them: their sum, 149.8 against 218.6 Hz, was "A 31%
+    slower" of two recordings in which each publisher kept its rate. Each publisher's rate is compared; a
+    tree file, which keeps the edge's rate (the sum, as frames and monitor show it), still matches."""
+    bridge = periodic("/bridge", 20, odom_base, phase=0.003)
+    late = shape_of(recording(healthy(ekf=sorted(ekf(start=4.0) + bridge, key=lambda m: m.record_time))))
+    whole = shape_of(recording(healthy(ekf=sorted(ekf() + bridge, key=lambda m: m.record_time))))
+    assert [(r.source, round(r.rate_hz, 1)) for r in whole.frames["base_link"].rates] == [
+        ("/bridge", 20.0),
+        ("/ekf", 50.0),
+    ]
+    sums = late.frames["base_link"].rate_hz or 0.0, whole.frames["base_link"].rate_hz or 0.0
+    assert 0 < sums[0] < 0.75 * sums[1]  # the sums are apart
+    assert compare(late, whole, Tolerances()) == [] == compare(whole, late, Tolerances())
+    slow = shape_of(
+        recording(healthy(ekf=sorted(periodic("/ekf", 25, odom_base) + bridge, key=lambda m: m.record_time)))
+    )
+    (d,) = compare(whole, slow, Tolerances())
+    assert (d.change, d.source) == (Change.rate, "/ekf") and d.rate_change == pytest.approx(-0.5)
+    assert describe(d) == "odom -> base_link from /ekf at 25.0 Hz in B, 50.0 Hz in A (B 50% slower)"
+    written = io.StringIO()
+    write_tree(late, written)
+    file = tmp_path / "tree.yaml"
+    file.write_text(written.getvalue())
+    assert compare(read_tree(file), late, Tolerances()) == [] == compare(late, read_tree(file), Tolerances())
+    (summed,) = compare(read_tree(file), whole, Tolerances())  # the file knows the sum only: the sums compared
+    assert describe(summed).endswith("; B's is the sum of its 2 sources' (/bridge 20.0 Hz, /ekf 50.0 Hz)")
+
+
+def test_rates_on_a_slow_simulations_clock_and_a_wall_clock_are_not_compared() -> None:
+    """The JetAcker pair (ros2-jetacker-gazebo-slam-toolbox-static-map-2025-db3 against its real robot):
+    odom -> base_footprint at 33.3 Hz of a simulation advancing 0.066 s a second against 3.9 Hz of a wall clock
+    was "B 88% slower". Those are seconds of different lengths: said so, with the rate on the recording's clock;
+    a simulation at real time is compared with the wall clock as before."""
+    real = shape_of(recording(healthy()))
+    slow = shape_of(recording(healthy(ekf=ekf(stamp=lambda t: SIM_START + (t - START) // 15))))
+    assert real.frames["base_link"].epoch and slow.frames["base_link"].epoch is False
+    assert slow.frames["base_link"].pace == pytest.approx(1 / 15, rel=0.01)
+    (d,) = compare(slow, real, Tolerances())
+    assert (d.change, d.frame) == (Change.clocks, "base_link")
+    assert describe(d) == (
+        "odom -> base_link is stamped on a wall clock (from the epoch) in B, on a clock from a start (simulated "
+        "time, or a boot's) advancing 0.067 s a second of its recording in A: 50.0 Hz in B and 750.0 Hz of A's "
+        "clock (50.0 Hz of its recording's) in A count seconds of different lengths, not compared as rates"
+    )
+    at_real_time = shape_of(
+        recording(healthy(ekf=periodic("/ekf", 25, odom_base, stamp=lambda t: SIM_START + t - START)))
+    )
+    (rate,) = compare(real, at_real_time, Tolerances())
+    assert rate.change is Change.rate and describe(rate).endswith("(B 50% slower)")
 
 
 def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, expected_file: Path) -> None:

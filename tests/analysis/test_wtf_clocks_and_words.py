@@ -261,6 +261,17 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published(
     assert "publish the sensor's mount" in found[("sonar_mount",)].hint
 
 
+def test_a_ground_truth_pose_in_map_is_told_it_is_a_pose_in_the_world_not_an_odometry_tf() -> None:
+    """corpus33's Guardian in Gazebo: /base_pose_ground_truth (nav_msgs/Odometry from Gazebo's p3d plugin, 1 kHz)
+    in 'map' with an empty child_frame_id, no transform naming map. The hint said "turn on the odometry node's
+    tf": a pose in the world has none; a lookup into map needs map -> odom (a localizer's)."""
+    rec = recording(sorted([statics(), *ekf(), *wheels()], key=lambda m: m.record_time), ros1=True)
+    truth = dataclasses.replace(sensor("/base_pose_ground_truth", "map", 20, 5_000_000), type="nav_msgs/Odometry")
+    (found,) = [f for f in findings_of(Scene(rec, streams=[truth])) if f.code == "sensor_frame"]
+    assert "'map' is a world frame (REP 105)" in found.hint and "ground truth (Gazebo's p3d plugin" in found.hint
+    assert "needs map -> odom" in found.hint and "enable_odom_tf" not in found.hint
+
+
 def test_every_sample_seconds_late_is_told_the_publisher_s_clock_is_behind() -> None:
     """A hobby robot of 2016 (qjones81/johnny5's data.bag): three publishers' edges all recorded 5.6-6.2 s after
     their stamps, none sooner: the robot's clock ~5.7 s behind the recorder's, as ``future`` says of one ahead. A

@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from tests.analysis.wtf_scenes import DELAY, FORMATS, MS, START, healthy, map_odom, periodic, statics, write
+from tests.analysis.wtf_scenes import DELAY, FORMATS, MS, START, healthy, map_odom, periodic, statics, wheels, write
 from tests.bags import BagFormat, TfMessage
 from tests.cli.conftest import Tfx
 from tests.cli.test_filter import scan, sensor_bags
@@ -96,16 +96,14 @@ def test_diff_says_how_far_a_mount_sent_on_tf_moved_never_changing_in_either(tfx
 
 def _laser_held_on_tf(laser_x: float) -> list[TfMessage]:
     """A healthy run whose simulator sends the laser mount on /tf at 50 Hz, never changing, at x = ``laser_x``
-    (the camera stays on /tf_static)."""
+    (the camera stays on /tf_static, the wheel turns about the healthy run's origin)."""
     camera = Transform.from_rpy((0.1, 0.0, 0.1), (0.0, 0.0, 0.0), START, "base_link", "camera")
 
     def laser(stamp: int) -> list[Transform]:
         return [Transform.from_rpy((laser_x, 0.0, 0.1), (0.0, 0.0, 0.0), stamp, "base_link", "laser")]
 
     statics_of_the_camera = [TfMessage("/tf_static", START + DELAY, [camera], "/rsp")]
-    return healthy(
-        statics=statics_of_the_camera, wheels=[*periodic("/rsp", 20, _turning_wheel), *periodic("/sim", 50, laser)]
-    )
+    return healthy(statics=statics_of_the_camera, wheels=[*wheels(), *periodic("/sim", 50, laser)])
 
 
 def test_diff_says_how_far_a_mount_moved_static_in_one_held_on_tf_in_the_other(tfx: Tfx, tmp_path: Path) -> None:
@@ -122,6 +120,29 @@ def test_diff_says_how_far_a_mount_moved_static_in_one_held_on_tf_in_the_other(t
     ) in result.stdout, result.stdout
     same_place = tfx("diff", real, write(tmp_path, "sim_same", BagFormat.ros1, _laser_held_on_tf(0.2)))
     assert "moved" not in same_place.stdout and "is static in A" in same_place.stdout, same_place.stdout
+
+
+def _two_localizers(amcl_hz: float, second_from: float) -> list[TfMessage]:
+    """A healthy run whose map -> odom comes from /amcl at ``amcl_hz`` and from /slam at 10 Hz from ``second_from``
+    s on (okoslam's odom -> base_link: a bridge's 20 Hz beside cartographer's 198 Hz from +3.7 s)."""
+    slam = periodic("/slam", 10, map_odom, start=second_from, phase=0.003)
+    return healthy(amcl=sorted(periodic("/amcl", amcl_hz, map_odom) + slam, key=lambda m: m.record_time))
+
+
+def test_diff_compares_an_edges_two_publishers_each_on_its_own(tfx: Tfx, tmp_path: Path) -> None:
+    """okoslam's cartographer bags: two publishers of one edge, one starting late in one recording, were "A 31%
+    slower" (their sum over spans that differ) though each kept its rate. Each publisher's rate is compared, and
+    the JSON says whose (``source``)."""
+    late = write(tmp_path, "late", BagFormat.ros1, _two_localizers(10, 4.0))
+    whole = write(tmp_path, "whole", BagFormat.ros1, _two_localizers(10, 0.0))
+    assert tfx("diff", late, whole).code == 0
+    slow = write(tmp_path, "slow", BagFormat.ros1, _two_localizers(4, 0.0))
+    result = tfx("diff", whole, slow, "--format", "json")
+    (rate,) = json.loads(result.stdout)["differences"]
+    assert (rate["change"], rate["source"], round(rate["rate_change"], 2)) == ("rate", "/amcl", -0.6)
+    assert rate["message"] == "map -> odom from /amcl at 4.0 Hz in B, 10.0 Hz in A (B 60% slower)"
+    assert [(r["source"], round(r["rate_hz"], 1)) for r in rate["a"]["rates"]] == [("/amcl", 10.0), ("/slam", 10.0)]
+    assert result.code == 1
 
 
 def _two_static_publishers(laser_first: bool) -> list[TfMessage]:

@@ -8,7 +8,7 @@ import pytest
 from rich.console import Console
 
 from tftools.analysis.filter.fates import LOST, Fate, FilterReport, StreamReport
-from tftools.analysis.targets import odometry_tf_unpublished
+from tftools.analysis.targets import odometry_tf_unpublished, world_pose_unpublished
 from tftools.core.time import NS_PER_S
 from tftools.render.filter import renderable
 
@@ -76,3 +76,13 @@ def test_an_empty_frame_id_is_said_empty_not_left_blank() -> None:
     for width in (400, 80):
         said = _said(stream, width)
         assert "(empty)" in said and " , world" not in said and "in , world" not in said, said
+
+
+def test_a_ground_truth_pose_in_map_is_told_as_tfx_wtf_tells_it() -> None:
+    """corpus33's Guardian in Gazebo: /base_pose_ground_truth (nav_msgs/Odometry) in 'map': `tfx filter` says
+    what `tfx wtf` says of a pose in the world (``world_pose_unpublished``), not the odometry's own tf."""
+    truth = dataclasses.replace(_lost("unknown_frame", 427, 427), topic="/base_pose_ground_truth", frame_ids=("map",))
+    truth = dataclasses.replace(truth, type="nav_msgs/msg/Odometry", unplaced=world_pose_unpublished("'map'", True))
+    said = _said(truth)
+    assert f"no timeout can ({' '.join(world_pose_unpublished(repr('map'), True).split())})" in said, said
+    assert "enable_odom_tf" not in said

@@ -17,19 +17,19 @@ class Change(str, enum.Enum):
     added = "added"  # in B, not in A
     reparented = "reparented"
     static = "static"  # static in one, moving in the other
-    moved = "moved"  # a static edge's value (or a never changing one's on /tf), beyond the tolerances
+    moved = "moved"  # a static edge's value (or what of one on /tf never changes in either), beyond the tolerances
     reordered = "reordered"  # the same static values received in another order: tf2 keeps another one
     rate = "rate"  # a moving edge's rate, beyond the tolerance
-    clocks = "clocks"  # a moving edge's stamps on more time bases in one than in the other
+    clocks = "clocks"  # a moving edge's stamps on more time bases in one, or from the epoch in one only
     publishers = "publishers"
 
 
 @dataclass(frozen=True)
 class Difference:
     """One frame's difference; ``before`` is the frame in A, ``after`` in B (None where absent).
-    ``translation_mm``/``rotation_deg`` say how far a static edge (or one held on /tf) moved, ``rate_change`` the
-    rate's relative change (B / A - 1, -1 where B has no rate; None where A has none; whether it differs is
-    ``rates_apart``'s)."""
+    ``translation_mm``/``rotation_deg`` say how far a static edge (or what of one on /tf stays fixed) moved,
+    ``rate_change`` the rate's relative change (B / A - 1, -1 where B has no rate; None where A has none; whether
+    it differs is ``rates_apart``'s), of the publisher ``source`` where the edge has several (None: the edge's)."""
 
     change: Change
     frame: str
@@ -38,6 +38,7 @@ class Difference:
     translation_mm: float = 0.0
     rotation_deg: float = 0.0
     rate_change: float | None = 0.0
+    source: str | None = None
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -69,40 +70,97 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
             kind = Change.reordered if _same_values(before, after, tolerances) else Change.moved
             found.append(Difference(kind, name, before, after, translation_mm=mm, rotation_deg=deg))
     else:
-        if rates_apart(before.rate_hz, after.rate_hz) * 100 > tolerances.rate_percent:
-            a, b = before.rate_hz or 0.0, after.rate_hz or 0.0
-            change = b / a - 1.0 if a > 0 else None
-            found.append(Difference(Change.rate, name, before, after, rate_change=change))
-        if before.clocks is not None and after.clocks is not None and before.clocks != after.clocks:
+        found.extend(_rates(before, after, tolerances))
+        counted = before.clocks is not None and after.clocks is not None and before.clocks != after.clocks
+        if counted and not any(d.change is Change.clocks for d in found):
             found.append(Difference(Change.clocks, name, before, after))
     if not (before.static and after.static):
-        found.extend(_held_moved(before, after, tolerances))
+        found.extend(_fixed_parts(before, after, tolerances))
     known = before.publishers is not None and after.publishers is not None
     if known and set(before.publishers or ()) != set(after.publishers or ()):
         found.append(Difference(Change.publishers, name, before, after))
     return found
 
 
-def _held_moved(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
-    """A mount held on /tf moved as much as one on /tf_static: compared where one side or both send it on /tf
-    never changing (``held``), the other on /tf_static (a simulator's laser at 50 Hz beside the real robot's
-    static_transform_publisher) or on /tf too."""
-    a, b = _fixed(before), _fixed(after)
-    if a is None or b is None:
-        return []
-    mm, deg = _apart(*a, *b)
+def _rates(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+    """A moving edge's rates beyond the tolerance, like with like: each publisher's where either side has several
+    (``FrameShape.rates``) and both name them (okoslam's odom -> base_link: cartographer's 198 Hz and a bridge's
+    20 Hz, not their sum over spans that differ); else the edge's. Rates counted on clocks of different kinds
+    (``FrameShape.epoch``: 33.3 Hz of a slow simulation's time against 3.9 Hz of a wall clock) are no rate
+    difference: where they are apart, a ``clocks`` one says the clocks differ."""
+    name = before.frame
+    apart = [
+        (source, was, now)
+        for source, was, now in _rate_pairs(before, after)
+        if rates_apart(was, now) * 100 > tolerances.rate_percent
+    ]
+    if apart and _other_seconds(before, after, tolerances):
+        return [Difference(Change.clocks, name, before, after)]
+    return [
+        Difference(
+            Change.rate, name, before, after, rate_change=(now or 0.0) / was - 1.0 if was else None, source=source
+        )
+        for source, was, now in apart
+    ]
+
+
+def _other_seconds(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> bool:
+    """Whether an edge's rates in two recordings count seconds of different lengths: stamped from the epoch in
+    one, from a start in the other (``epoch``), and in one of them the stamps advance at another pace than the
+    recording's clock (``pace``: a simulation slower than real time). A simulation at real time, or recorded on
+    its own clock, counts seconds as a wall clock does; two simulations count the same simulated seconds."""
+    return _kinds_apart(before, after) and any(
+        f.pace is not None and rates_apart(f.pace, 1.0) * 100 > tolerances.rate_percent for f in (before, after)
+    )
+
+
+def _kinds_apart(before: FrameShape, after: FrameShape) -> bool:
+    """Whether an edge is stamped from the epoch in one recording and from a start in the other."""
+    return before.epoch is not None and after.epoch is not None and before.epoch != after.epoch
+
+
+def _rate_pairs(before: FrameShape, after: FrameShape) -> list[tuple[str | None, float | None, float | None]]:
+    """The rates of an edge to compare (source, A's, B's): by source where either side has several and both
+    sides say each source's (their common ones); else the edge's own (a tree file's, of all its publishers)."""
+    if before.rates or after.rates:
+        mine, theirs = _by_source(before), _by_source(after)
+        if mine is not None and theirs is not None:
+            return [(source, rate, theirs[source]) for source, rate in mine.items() if source in theirs]
+    return [(None, before.rate_hz, after.rate_hz)]
+
+
+def _by_source(f: FrameShape) -> dict[str, float | None] | None:
+    """A moving edge's rate by source: its several (``rates``), or its one named publisher's; None where it says
+    neither (one unnamed publisher, or a tree file naming several without their rates)."""
+    if f.rates:
+        return {r.source: r.rate_hz for r in f.rates}
+    if f.publishers is not None and len(f.publishers) == 1:
+        return {f.publishers[0]: f.rate_hz}
+    return None
+
+
+def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+    """What of an edge stays fixed in both recordings, where one or both send it on /tf (``_fixed``), compared as a
+    static edge's value is: a wheel held still in one recording and turning in the other moved by as far as its
+    origins are apart; a simulator's laser held on /tf at 50 Hz as far from the real robot's static mount."""
+    (t1, q1), (t2, q2) = _fixed(before), _fixed(after)
+    mm = round(1000.0 * math.dist(t1, t2), 6) if t1 is not None and t2 is not None else 0.0
+    deg = round(rotation_angle_deg(q1, q2), 6) if q1 is not None and q2 is not None else 0.0
     if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
         return [Difference(Change.moved, before.frame, before, after, translation_mm=mm, rotation_deg=deg)]
     return []
 
 
-def _fixed(f: FrameShape) -> tuple[Vec3, Quat] | None:
-    """An edge's one value: held on /tf, or static; None where it moves or its value is not known."""
+def _fixed(f: FrameShape) -> tuple[Vec3 | None, Quat | None]:
+    """What of an edge's value stays fixed: all of it where it is static or held on /tf (``held``), a turning
+    joint's origin or a sliding joint's rotation (``Motion``); None where nothing does or it is not known."""
     if f.held is not None:
         return f.held.translation, f.held.rotation
-    if f.static and f.translation is not None and f.rotation is not None:
+    if f.static:
         return f.translation, f.rotation
-    return None
+    if f.motion is not None:
+        return f.motion.translation, f.motion.rotation
+    return None, None
 
 
 def rates_apart(a: float | None, b: float | None) -> float:
@@ -179,10 +237,18 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"{edge} (on /tf, never changing in either) moved by {d.translation_mm:.1f} mm and "
             f"{d.rotation_deg:.2f}°: {_value(before.held)} in {a}, {_value(after.held)} in {b}"
         )
-    if d.change is Change.moved and (before.held is not None or after.held is not None):
+    if d.change is Change.moved and before.static != after.static and _whole(before) and _whole(after):
         return (
             f"{edge} moved by {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}°: {_value(before.held or before)} "
             f"in {a} ({_sent(before)}), {_value(after.held or after)} in {b} ({_sent(after)})"
+        )
+    if d.change is Change.moved and not (before.static and after.static):
+        fixed = [(f"{d.translation_mm:.1f} mm", "translation")] if _fixed(before)[0] and _fixed(after)[0] else []
+        fixed += [(f"{d.rotation_deg:.2f}°", "rotation")] if _fixed(before)[1] and _fixed(after)[1] else []
+        on_tf = "" if before.static or after.static else " (on /tf)"
+        return (
+            f"{edge}{on_tf} moved by {' and '.join(f for f, _ in fixed)} (its {' and '.join(p for _, p in fixed)}, "
+            f"fixed in both): {_moving(before)} in {a}, {_moving(after)} in {b}"
         )
     if d.change is Change.moved:
         several = "".join(
@@ -195,22 +261,98 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"{_value(before)} in {a}, {_value(after)} in {b}{several}"
         )
     if d.change is Change.rate:
-        was, now = before.rate_hz or 0.0, after.rate_hz or 0.0
+        was, now = _source_rate(before, d.source), _source_rate(after, d.source)
+        edge = f"{edge} from {d.source}" if d.source is not None else edge
+        sums = "".join(_sum(side, f) for side, f in ((a, before), (b, after)) if d.source is None)
         if not was or not now:
-            return f"{edge} at {_rate(now)} in {b}, {_rate(was)} in {a}"
+            return f"{edge} at {_rate(now)} in {b}, {_rate(was)} in {a}{sums}"
         slower = b if now < was else a
         apart = rates_apart(was, now)
-        return f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower)"
+        return f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower){sums}"
+    if d.change is Change.clocks and _kinds_apart(before, after):
+        return (
+            f"{edge} is stamped on {_base(after)} in {b}, on {_base(before)} in {a}: "
+            f"{_rate(after.rate_hz or 0.0)}{_paced(after, b)} in {b} and {_rate(before.rate_hz or 0.0)}"
+            f"{_paced(before, a)} in {a} count seconds of different lengths, not compared as rates"
+        )
     if d.change is Change.clocks:
         return (
-            f"{edge} is stamped on {_clocks(after)} in {b}, on {_clocks(before)} in {a} (stamps further apart than "
-            "the transforms took to arrive: publishers on different clocks, as a recording replayed with its own tf "
-            "beside live nodes; tfx wtf says which)"
+            f"{edge} is stamped on {_clocks(after)}{_by_clock(after)} in {b}, "
+            f"on {_clocks(before)}{_by_clock(before)} in {a} "
+            "(stamps further apart than the transforms took to arrive: publishers on different clocks, as a "
+            "recording replayed with its own tf beside live nodes; tfx wtf says which)"
         )
-    return (
-        f"{edge} published by {', '.join(after.publishers or ()) or 'nobody'} in {b}, "
-        f"by {', '.join(before.publishers or ()) or 'nobody'} in {a}"
-    )
+    return f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+
+
+def _publishers(f: FrameShape) -> str:
+    """Who published an edge, each at its rate where it had several (``rates``)."""
+    rates = {r.source: r.rate_hz for r in f.rates}
+    named = [f"{p} ({_rate(rates[p])})" if p in rates else p for p in f.publishers or ()]
+    return ", ".join(named) or "nobody"
+
+
+def _source_rate(f: FrameShape, source: str | None) -> float:
+    """The rate of ``source``'s samples of an edge (``_by_source``), or the edge's (None)."""
+    if source is None:
+        return f.rate_hz or 0.0
+    return (_by_source(f) or {}).get(source) or 0.0
+
+
+def _sum(side: str, f: FrameShape) -> str:
+    """Where an edge's rate is the sum of several sources' (``rates``), each of them."""
+    return f"; {side}'s is the sum of its {len(f.rates)} sources'{_by(f)}" if f.rates else ""
+
+
+def _by(f: FrameShape) -> str:
+    """Each of an edge's several sources (``rates``) at its rate, in brackets; "" where it has one."""
+    return f" ({', '.join(f'{r.source} {_rate(r.rate_hz)}' for r in f.rates)})" if f.rates else ""
+
+
+#: A clock's pace (``FrameShape.pace``) is said where it is this far from 1 (a robot's clock against its recorder's
+#: ticks within it).
+_PACE_SAID = 0.05
+
+
+def _by_clock(f: FrameShape) -> str:
+    """Each clock's rate (``_by``) where an edge's sources are its clocks (no node named), else ""."""
+    return _by(f) if all(r.source.startswith("clock ") for r in f.rates) else ""
+
+
+def _base(f: FrameShape) -> str:
+    kind = "a wall clock (from the epoch)" if f.epoch else "a clock from a start (simulated time, or a boot's)"
+    return f"{kind} advancing {f.pace:.3f} s a second of its recording" if _paced_apart(f) and f.pace else kind
+
+
+def _paced(f: FrameShape, side: str) -> str:
+    """An edge's rate on its recording's clock, where its stamps' clock runs at another pace (``pace``)."""
+    if not (_paced_apart(f) and f.pace and f.rate_hz):
+        return ""
+    return f" of {side}'s clock ({f.rate_hz * f.pace:.1f} Hz of its recording's)"
+
+
+def _paced_apart(f: FrameShape) -> bool:
+    return f.pace is not None and abs(f.pace - 1.0) > _PACE_SAID
+
+
+def _moving(f: FrameShape) -> str:
+    """What of a moving edge on /tf stays fixed and how far the rest moves (``Motion``), or its ``held`` value."""
+    if f.held is not None:
+        return f"held at {_value(f.held)}"
+    if f.static:
+        return f"static at {_value(f)}"
+    motion = f.motion
+    if motion is None or (motion.translation is None and motion.rotation is None):
+        return "moving"
+    if motion.translation is not None:
+        return f"at xyz [{_xyz(motion.translation)}] m, turning by up to {motion.turn_deg:.2f}°"
+    assert motion.rotation is not None
+    return f"at rpy [{_rpy(motion.rotation)}]°, moving by up to {motion.spread_mm:.1f} mm"
+
+
+def _whole(f: FrameShape) -> bool:
+    """Whether all of an edge's value stays fixed: static, or held on /tf."""
+    return f.static or f.held is not None
 
 
 def _sent(f: FrameShape) -> str:
@@ -243,9 +385,15 @@ def _kind(f: FrameShape) -> str:
 def _value(f: FrameShape | StaticValue) -> str:
     if f.translation is None or f.rotation is None:
         return "unknown"
-    xyz = ", ".join(f"{v:.4f}" for v in f.translation)
-    rpy = ", ".join(f"{round(math.degrees(v), 2) + 0.0:.2f}" for v in rpy_rebuilding(f.rotation))  # no -0.00
-    return f"xyz [{xyz}] m rpy [{rpy}]°"
+    return f"xyz [{_xyz(f.translation)}] m rpy [{_rpy(f.rotation)}]°"
+
+
+def _xyz(t: Vec3) -> str:
+    return ", ".join(f"{v:.4f}" for v in t)
+
+
+def _rpy(q: Quat) -> str:
+    return ", ".join(f"{round(math.degrees(v), 2) + 0.0:.2f}" for v in rpy_rebuilding(q))  # no -0.00
 
 
 def _received(f: FrameShape) -> str:

@@ -14,10 +14,10 @@ from tftools.analysis.edges import publishers
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
-from tftools.core.figures import rate_of, record_span
+from tftools.core.figures import rate_of, record_span, time_base_of, time_bases
 from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
-from tftools.core.rotation import Quat, Vec3
-from tftools.core.time import NS_PER_S
+from tftools.core.rotation import Quat, Vec3, angle_between_many
+from tftools.core.time import EPOCH_FLOOR, NS_PER_S
 from tftools.sources.recording import Recording
 
 
@@ -49,6 +49,28 @@ class StaticValue:
 
 
 @dataclass(frozen=True)
+class SourceRate:
+    """One of several sources of a moving edge's samples and its rate (``figures.rate_of`` of its own stamps): a
+    node, or where the recording names none, a clock its stamps are on ("clock 1": the earliest stamps')."""
+
+    source: str
+    rate_hz: float
+
+
+@dataclass(frozen=True)
+class Motion:
+    """How a moving edge that never holds still moves (its samples from its latest parent): its translation where
+    it never changes (a turning joint's origin: a wheel's), its rotation where it never changes (a sliding
+    joint's), else None; how far its translation spreads (mm from its first value, at most) and how far its
+    rotation turns (degrees from its first value, at most)."""
+
+    translation: Vec3 | None
+    rotation: Quat | None
+    spread_mm: float
+    turn_deg: float
+
+
+@dataclass(frozen=True)
 class FrameShape:
     """One frame: its parent (None for a root); a static edge's value, a moving edge's rate (None: any rate, as a
     tree file without ``rate_hz`` or a URDF expects; 0: unknown, fewer than two samples stamped apart);
@@ -72,6 +94,19 @@ class FrameShape:
     #: A moving edge's one value where it never changed (``held``): a fixed transform sent on /tf (ROS 1's
     #: robot_state_publisher before /tf_static), compared between two recordings as a static edge's value is.
     held: StaticValue | None = None
+    #: A moving edge's values where they change (``Motion``): what of them stays fixed, compared between two
+    #: recordings as a held value is (a wheel's origin beside the same wheel held still); None otherwise.
+    motion: Motion | None = None
+    #: A moving edge's rate by source where it has several (two nodes, or one unnamed publisher per clock): its
+    #: ``rate_hz`` is their sum, the figure of each is theirs; empty where it has one.
+    rates: tuple[SourceRate, ...] = ()
+    #: Whether a moving edge's stamps count from the epoch (a wall clock: True) or from a start (a simulation's,
+    #: a boot's: False); None where some do and some do not, or not known (a tree file, a URDF).
+    epoch: bool | None = None
+    #: How far a moving edge's stamps advance while it arrives (their span over its record span): 1 where they
+    #: are on the record clock or one ticking as fast, 0.067 for a simulation at a fifteenth of real time
+    #: recorded on the wall clock; None where not known (no record times, stamps on several clocks).
+    pace: float | None = None
 
 
 @dataclass(frozen=True)
@@ -101,6 +136,7 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
         rotation: Quat | None = None
         received: tuple[StaticValue, ...] = ()
         hist = buffer.history(name)
+        moving = hist if not summary.static and hist is not None and len(hist) else None
         if summary.static and hist is not None and len(hist):
             latest = int(np.argmax(hist.sequence))
             translation, rotation = _value(hist.values[latest])
@@ -116,7 +152,11 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             received=received,
             on_tf_hz=_on_tf_hz(hist) if summary.static and hist is not None else 0.0,
             clocks=summary.clocks,
-            held=held(hist) if not summary.static and hist is not None else None,
+            held=held(moving) if moving is not None else None,
+            motion=motion(moving) if moving is not None else None,
+            rates=source_rates(buffer, moving, named) if moving is not None else (),
+            epoch=_epoch(moving) if moving is not None else None,
+            pace=_pace(moving) if moving is not None else None,
         )
     return TreeShape(frames, " + ".join(recording.paths))
 
@@ -129,6 +169,58 @@ def held(hist: EdgeHistory) -> StaticValue | None:
         return None
     translation, rotation = _value(values[0])
     return StaticValue(translation, rotation, None, len(values))
+
+
+def motion(hist: EdgeHistory) -> Motion | None:
+    """A moving edge's ``Motion`` over its samples from its latest parent; None where it holds still (``held``)
+    or has fewer than two."""
+    values = hist.values[hist.parents == hist.latest_parent]
+    if len(values) < 2 or bool((values == values[0]).all()):
+        return None
+    translations, rotations = values[:, :3], values[:, 3:]
+    first_t, first_q = _value(values[0])
+    fixed_t = bool((translations == translations[0]).all())
+    fixed_q = bool((rotations == rotations[0]).all())
+    spread = float(np.linalg.norm(translations - translations[0], axis=1).max())
+    turn = float(angle_between_many(rotations, np.broadcast_to(rotations[0], rotations.shape)).max())
+    return Motion(first_t if fixed_t else None, first_q if fixed_q else None, 1000.0 * spread, math.degrees(turn))
+
+
+def source_rates(buffer: Buffer, hist: EdgeHistory, named: bool) -> tuple[SourceRate, ...]:
+    """A moving edge's rate by source (``SourceRate``) from its latest parent, where it has several: by node where
+    the recording names them (``named``), else by the clock its stamps are on (``figures.time_base_of``)."""
+    mine = hist.parents == hist.latest_parent
+    stamps, records = hist.stamps[mine], hist.record_times[mine]
+    if named:
+        ids = hist.authorities[mine]
+        groups = sorted(((buffer.authorities[int(a)], ids == a) for a in np.unique(ids)), key=lambda g: g[0])
+    else:
+        base = time_base_of(stamps, record_span(records))
+        groups = [(f"clock {k + 1}", base == k) for k in range(int(base.max()) + 1)] if len(base) else []
+    if len(groups) < 2:
+        return ()
+    return tuple(
+        SourceRate(name, rate_of(stamps[rows], record_span(records[rows]), records[rows])) for name, rows in groups
+    )
+
+
+def _epoch(hist: EdgeHistory) -> bool | None:
+    """Whether a moving edge's stamps count from the epoch (all of them), from a start (none), or neither."""
+    stamps = hist.stamps[hist.parents == hist.latest_parent]
+    if not len(stamps):
+        return None
+    low, high = int(stamps.min()), int(stamps.max())
+    return True if low >= EPOCH_FLOOR else False if high < EPOCH_FLOOR else None
+
+
+def _pace(hist: EdgeHistory) -> float | None:
+    """How far a moving edge's stamps advance per ns it takes to arrive (``FrameShape.pace``)."""
+    mine = hist.parents == hist.latest_parent
+    stamps, records = hist.stamps[mine], hist.record_times[mine]
+    span = record_span(records)
+    if span <= 0 or time_bases(stamps, span) > 1:
+        return None
+    return float(stamps.max() - stamps.min()) / span
 
 
 def _on_tf_hz(hist: EdgeHistory) -> float:

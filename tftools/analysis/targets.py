@@ -49,6 +49,25 @@ def odometry_tf_unpublished(named: str) -> str:
     )
 
 
+#: REP 105's world frames: a pose in one of them is a robot's place in the world, not an odometry's own frame.
+WORLD_FRAMES = frozenset({"map", "world", "earth"})
+
+
+def world_pose_unpublished(named: str, has_odom: bool) -> str:
+    """Why nav_msgs/Odometry in a world frame (``named``, worded: ``'map'``; ``WORLD_FRAMES``) that no transform
+    names is lost: a robot's pose in the world, as a simulator's ground truth (Gazebo's p3d plugin: no tf, an
+    empty child_frame_id) or a localizer's estimate, has no odometry tf to turn on (corpus33's Guardian in Gazebo:
+    /base_pose_ground_truth in 'map' at 1 kHz, child_frame_id empty). ``has_odom``: whether the tree has an odom
+    frame to hang the world frame on. ``tfx wtf``'s and ``tfx filter``'s words for it."""
+    parent = "map -> odom" if has_odom else "the world frame's transform to the tree"
+    return (
+        f"{named} is a world frame (REP 105) and these are nav_msgs/Odometry: the robot's pose in the world, as a "
+        "simulator's ground truth (Gazebo's p3d plugin, which sends no tf) or a localizer's estimate gives, not an "
+        f"odometry's own frame with a tf to turn on; a lookup into it needs {parent} (a localizer's, e.g. amcl or "
+        "a SLAM node: run it with this data or record it; for a ground truth, read its poses as they are)"
+    )
+
+
 def world_frame_unpublished(named: Collection[str], has_odom: bool, root: str, ros2: bool) -> str | None:
     """Why sensor data in REP 105's frames ``named`` (base names: 'map', 'odom') that no transform names is
     lost, and what to do (None for other frames): ``has_odom``, whether the tree has an odom frame; ``root``,

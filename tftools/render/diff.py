@@ -57,4 +57,5 @@ def _difference(d: Difference) -> dict[str, Any]:
         "translation_mm": d.translation_mm,
         "rotation_deg": d.rotation_deg,
         "rate_change": d.rate_change,
+        "source": d.source,
     }

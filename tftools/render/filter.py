@@ -145,10 +145,10 @@ def _advice(s: StreamReport) -> str:
     if s.wait_needed is None:
         most = max(s.reasons, key=lambda r: s.reasons[r]) if s.reasons else ""
         instead = _INSTEAD.get(most)
-        if most == "unknown_frame" and is_odometry(s.type):  # its frame is its own tf's, not a mount's
-            instead = odometry_tf_unpublished(", ".join(repr(f) for f in s.frame_ids))
-        elif most == "unknown_frame" and s.unplaced:  # REP 105's map or odom: tfx wtf's words for it
+        if most == "unknown_frame" and s.unplaced:  # REP 105's map or odom, a pose in the world: tfx wtf's words
             instead = s.unplaced
+        elif most == "unknown_frame" and is_odometry(s.type):  # its frame is its own tf's, not a mount's
+            instead = odometry_tf_unpublished(", ".join(repr(f) for f in s.frame_ids))
         if s.clock_apart:  # no wait or cache meets a stamp hours from tf's
             instead = clocks_apart(s.clock_apart)
         if s.stamped_zero >= sum(s.reasons.values()):  # every one lost was stamped 0: said below, once

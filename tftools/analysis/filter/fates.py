@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_unique
-from tftools.analysis.targets import world_frame_unpublished
+from tftools.analysis.targets import WORLD_FRAMES, is_odometry, world_frame_unpublished, world_pose_unpublished
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
@@ -691,8 +691,12 @@ def stream_report(
 
 def _unplaced(buffer: Buffer, stream: StampedMessages, target: str) -> str:
     """``world_frame_unpublished`` of the frames of ``stream`` no transform names (ROS 2's words where its type
-    is spelt as ROS 2 spells it)."""
+    is spelt as ROS 2 spells it); of odometry, ``world_pose_unpublished`` where they are world frames, else ""
+    (its own tf's words, ``odometry_tf_unpublished``)."""
     missing = {base_name(f) for f in stream.frame_ids if f and not buffer.has_frame(frame_name(f))}
+    if is_odometry(stream.type):
+        named = ", ".join(repr(f) for f in sorted(missing))
+        return world_pose_unpublished(named, buffer.has_frame("odom")) if missing <= WORLD_FRAMES else ""
     return world_frame_unpublished(missing, buffer.has_frame("odom"), target, "/msg/" in stream.type) or ""
 
 

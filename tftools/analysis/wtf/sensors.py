@@ -7,7 +7,13 @@ from collections.abc import Iterator
 
 from tftools.analysis.filter.fates import TF_LOST
 from tftools.analysis.findings import Finding, Severity
-from tftools.analysis.targets import is_odometry, odometry_tf_unpublished, world_frame_unpublished
+from tftools.analysis.targets import (
+    WORLD_FRAMES,
+    is_odometry,
+    odometry_tf_unpublished,
+    world_frame_unpublished,
+    world_pose_unpublished,
+)
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed
 from tftools.core.figures import INSTANT, KEEP, timeout_s, under_tick, wait_in_words, within_in_words
@@ -168,6 +174,9 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
             f"{and_joined(moving)} was recorded but holds no transform: their publishers (odometry, "
             "robot_state_publisher) sent nothing while recorded; check that they ran and had their input"
         )
+    if odometry and {base_name(f) for f in missing} <= WORLD_FRAMES:
+        worded = listed([repr(f) for f in missing], 3)
+        return "no transform names it: " + world_pose_unpublished(worded, scene.buffer.has_frame("odom"))
     if odometry:
         # frand08/ramon_slam's cartographer_records/test5.bag: /odom_enc in odom_enc (child base_footprint, in the
         # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong.
