@@ -14,7 +14,8 @@ from tftools.core.rejection import through_matrix as one_through_matrix
 
 
 def tf2_round_trip(q: np.ndarray) -> np.ndarray:
-    return np.array([rotation.quat_from_matrix(rotation.matrix_from_quat(tuple(map(float, row)))) for row in q])
+    rows = [(float(x), float(y), float(z), float(w)) for x, y, z, w in q]
+    return np.array([rotation.quat_from_matrix(rotation.matrix_from_quat(row)) for row in rows])
 
 
 def quaternions(count: int, seed: int) -> np.ndarray:
