@@ -487,14 +487,14 @@ struct Rows {
     const int32_t *parent, *child, *authority;
     const int64_t *stamp, *record_time;
     const double *translation, *rotation;  // as sent
-    const double* checked;                 // the rotations as tf2 checks and compares them
+    bool turned;                           // ROS 2: rotations checked and compared through the matrix
     const bool* is_static;
     const int32_t* frame_of;       // a name's frame id
     const uint8_t* slash;          // whether a name had a leading slash
     const int32_t* authority_ids;  // a publisher's id in the buffer
 
     tfinsert::Offered offered(const int64_t* rows, int64_t k) const {
-        return {rows, k, stamp, translation, checked, parent, frame_of};
+        return {rows, k, stamp, translation, rotation, parent, frame_of, turned};
     }
 };
 
@@ -728,8 +728,8 @@ inline bool Core::insert_common(int32_t parent, int32_t child, int64_t stamp, co
     // The row as a batch of one: names 0 (parent) and 1 (child), publisher 0.
     const int32_t names[2] = {0, 1}, frame_of[2] = {parent, child}, zero = 0;
     const uint8_t slash[2] = {0, 0};
-    const Rows r{arrivals, names,   names + 1, &zero,    &stamp, &record_time, values,
-                 values + 3, checked, &is_static, frame_of, slash,  &publisher};
+    const Rows r{arrivals,   names,          names + 1,  &zero,    &stamp, &record_time, values,
+                 values + 3, settings_.ros2, &is_static, frame_of, slash,  &publisher};
     // What store() does with this one row, which tf2 keeps (checked above): appended, the history
     // pruned (ROS 2's tf2 prunes before the sample goes in: by the newest stamp before it), the
     // walk's view refreshed, the publisher noted.
@@ -777,22 +777,27 @@ inline Inserted Core::insert(const Batch& b) {
     }
     const auto empty = index.find(std::string_view());
     const int32_t empty_key = empty == index.end() ? -1 : empty->second;
-    // ROS 2's tf2 checks and compares each rotation as it comes back from its matrix.
-    const double* checked = b.rotation;
-    std::vector<double> turned;
-    if (settings_.ros2) {
-        turned.assign(b.rotation, b.rotation + 4 * n);
-        tfcore::through_matrix_all(turned.data(), n, 4);
-        checked = turned.data();
-    }
     const int64_t first = arrivals;
     arrivals += n;
     std::vector<uint8_t> refusals(n);
     bool refused = false;
-    for (int64_t i = 0; i < n; ++i) {
-        refusals[i] = tfinsert::checks(keys[b.parent[i]], keys[b.child[i]], empty_key,
-                                       tfinsert::values_of(b.translation, checked, i), settings_.tolerance);
-        refused = refused || refusals[i];
+    // ROS 2's tf2 checks (and compares: Rows' `turned`) each rotation as it comes back from its
+    // matrix: a block's at a time, not a copy of every rotation.
+    double turned[4 * tfcore::TURN_BLOCK];
+    for (int64_t at = 0; at < n; at += tfcore::TURN_BLOCK) {
+        const int64_t m = std::min(tfcore::TURN_BLOCK, n - at);
+        const double* checked = b.rotation + 4 * at;
+        if (settings_.ros2) {
+            tfcore::through_matrix_rows(checked, turned, m);
+            checked = turned;
+        }
+        for (int64_t j = 0; j < m; ++j) {
+            const int64_t i = at + j;
+            const double *t = b.translation + 3 * i, *q = checked + 4 * j;
+            const tfinsert::Values values{{t[0], t[1], t[2], q[0], q[1], q[2], q[3]}};
+            refusals[i] = tfinsert::checks(keys[b.parent[i]], keys[b.child[i]], empty_key, values, settings_.tolerance);
+            refused = refused || refusals[i];
+        }
     }
     for (int check = 0; check < tfinsert::CHECKS && refused; ++check) {
         for (int64_t i = 0; i < n; ++i) {
@@ -827,7 +832,7 @@ inline Inserted Core::insert(const Batch& b) {
         if (!refusals[i]) rows[next[keys[b.child[i]]]++] = i;
     }
     const Rows r{first,         b.parent,  b.child,         b.authority,     b.stamp,
-                 b.record_time, b.translation, b.rotation, checked,         b.is_static,
+                 b.record_time, b.translation, b.rotation, settings_.ros2,  b.is_static,
                  frame_of.data(), slash.data(), out.authority_ids.data()};
     for (size_t key = 0; key + 1 < bounds.size(); ++key) {
         const int64_t* group = rows.data() + bounds[key];

@@ -89,13 +89,18 @@ struct Offered {
     const int64_t* rows;
     int64_t count;
     const int64_t* stamp;
-    const double *translation, *rotation;
+    const double *translation, *rotation;  // as sent
     const int32_t* parent;    // the batch's parent names
     const int32_t* frame_of;  // a name's frame id
+    bool turned;              // ROS 2: compared with each rotation through tf2::Transform's matrix
 
     int64_t stamp_at(int64_t i) const { return stamp[rows[i]]; }
     int32_t parent_at(int64_t i) const { return frame_of[parent[rows[i]]]; }
-    Values values_at(int64_t i) const { return values_of(translation, rotation, rows[i]); }
+    Values values_at(int64_t i) const {
+        Values out = values_of(translation, rotation, rows[i]);
+        if (turned) tfcore::through_matrix_all(out.v + 3, 1, 4);
+        return out;
+    }
 };
 
 // What becomes of an offered row in a dynamic history.

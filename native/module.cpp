@@ -1013,7 +1013,7 @@ NB_MODULE(_kernels, m) {
     m.def(
         "through_matrix",
         [](Array<double, nb::shape<-1, 4>> rotations) {
-            tfcore::through_matrix_all(rotations.data(), static_cast<int64_t>(rotations.shape(0)), 4);
+            tfcore::through_matrix_rows(rotations.data(), rotations.data(), static_cast<int64_t>(rotations.shape(0)));
         },
         "rotations"_a, "Rotations (N, 4), in place, as they come back from ROS 2's tf2::Transform.");
 }

@@ -129,6 +129,36 @@ inline void through_matrix_all(double* q, int64_t count, int64_t stride) {
     }
 }
 
+// Rotations at once: through_matrix_rows' block.
+constexpr int64_t TURN_BLOCK = 64;
+
+// through_matrix's first case (a positive trace: every rotation of less than 120 degrees) for rows
+// 0..n of the columns x, y, z, w, in place, in vector lanes (turn.cpp); `fast[i]` is 0 where the
+// trace is not positive (or is NaN), whose lanes hold nothing.
+void turn_positive_traces(double* x, double* y, double* z, double* w, uint8_t* fast, int64_t n);
+
+// through_matrix_all of `count` rows of `q` (4 doubles a row) into `out` (4 a row, or `q` itself):
+// the same bits, a block of rows at a time in vector lanes, those with no positive trace one by one.
+inline void through_matrix_rows(const double* q, double* out, int64_t count) {
+    double x[TURN_BLOCK], y[TURN_BLOCK], z[TURN_BLOCK], w[TURN_BLOCK];
+    uint8_t fast[TURN_BLOCK];
+    for (int64_t first = 0; first < count; first += TURN_BLOCK) {
+        const int64_t n = std::min(TURN_BLOCK, count - first);
+        const double* in = q + 4 * first;
+        for (int64_t i = 0; i < n; ++i) x[i] = in[4 * i], y[i] = in[4 * i + 1], z[i] = in[4 * i + 2], w[i] = in[4 * i + 3];
+        turn_positive_traces(x, y, z, w, fast, n);
+        double* to = out + 4 * first;
+        for (int64_t i = 0; i < n; ++i) {
+            if (fast[i]) {
+                to[4 * i] = x[i], to[4 * i + 1] = y[i], to[4 * i + 2] = z[i], to[4 * i + 3] = w[i];
+            } else {
+                const Quat r = through_matrix({in[4 * i], in[4 * i + 1], in[4 * i + 2], in[4 * i + 3]});
+                to[4 * i] = r.x, to[4 * i + 1] = r.y, to[4 * i + 2] = r.z, to[4 * i + 3] = r.w;
+            }
+        }
+    }
+}
+
 // `edge` applied after `acc`, as TransformAccum.accum composes.
 inline Pose compose(const Pose& edge, const Pose& acc) {
     const Vec r = rotate(edge.q, acc.v);

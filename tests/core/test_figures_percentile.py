@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-from tftools.core.figures import percentile
+from tftools.core.figures import median_and_percentile, median_ns, percentile
 
 
 def test_percentile_is_numpys_to_the_bit() -> None:
@@ -29,3 +29,13 @@ def test_percentile_leaves_its_values_and_numpy_ma_alone() -> None:
     code += "percentile(np.arange(10), 95); print('numpy.ma' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"
+
+
+def test_median_and_percentile_from_one_partition_are_each_ones() -> None:
+    rng = np.random.default_rng(3)
+    for count in [1, 2, 3, 4, 5, 20, 21, 1_000, 4_097]:
+        for values in (rng.integers(0, 2**62, count, dtype=np.int64), np.arange(count, dtype=np.int64) * 7):
+            for q in (0, 50, 95, 99.9, 100):
+                copy = values.copy()
+                assert median_and_percentile(copy, q) == (median_ns(values), percentile(values, q)), (count, q)
+                assert copy.tobytes() == values.tobytes()

@@ -200,10 +200,28 @@ def median_ns(values: Int64Array) -> int:
     n = len(values)
     if not n:
         return 0
-    middle = sorted({(n - 1) // 2, n // 2})
+    middle = _middle(n)
     ordered = values if bool(np.all(values[1:] >= values[:-1])) else np.partition(values, middle)
+    return _median_of(ordered, middle)
+
+
+def _middle(n: int) -> list[int]:
+    """Where the middle one or two of ``n`` sorted values are."""
+    return sorted({(n - 1) // 2, n // 2})
+
+
+def _median_of(ordered: Int64Array, middle: list[int]) -> int:
+    """``median_ns`` of values whose ``middle`` (``_middle``) are in their sorted places."""
     total = int(ordered[middle[0]]) + int(ordered[middle[-1]])
     return total // 2 if total >= 0 else -(-total // 2)
+
+
+def median_and_percentile(values: Int64Array, q: float) -> tuple[int, float]:
+    """``median_ns(values)`` and ``percentile(values, q)`` of non-empty ``values``, from one partition (a
+    timeline asks both of every edge's arrival offsets)."""
+    middle, ranks = _middle(len(values)), _ranks(len(values), q)
+    ordered = np.partition(values, sorted({*middle, ranks[0] % len(values), ranks[1] % len(values)}))
+    return _median_of(ordered, middle), _percentile_of(ordered, q, ranks)
 
 
 #: The share of a sensor's messages the settings suggested for a tf2 MessageFilter (or a lookup's timeout)
@@ -408,13 +426,24 @@ def percentile(values: Int64Array, q: float) -> float:
     numpy's very operations, without its partition's call of ``np.unique``: whose first call imports
     ``numpy.ma`` (about a fifth of a small bag's load; timeline.py asked it of every edge)."""
     count = len(values)
+    low, high = _ranks(count, q)
+    return _percentile_of(np.partition(values, sorted({low % count, high % count})), q, (low, high))
+
+
+def _ranks(count: int, q: float) -> tuple[int, int]:
+    """The two ranks (-1: the last) whose values ``percentile`` weighs, of ``count`` values."""
     virtual = (count - 1) * np.true_divide(q, 100)
-    below = np.floor(virtual)
-    low = high = -1 if virtual >= count - 1 else int(below)  # numpy's: past the last index, the last value
+    low = high = -1 if virtual >= count - 1 else int(np.floor(virtual))  # numpy's: past the last index, the last
     if low >= 0:
         high = low + 1
-    part = np.partition(values, sorted({low % count, high % count}))
-    a, b = part[low], part[high]
+    return low, high
+
+
+def _percentile_of(part: Int64Array, q: float, ranks: tuple[int, int]) -> float:
+    """``percentile`` of values whose ``ranks`` (``_ranks``) are in their sorted places in ``part``."""
+    virtual = (len(part) - 1) * np.true_divide(q, 100)
+    below = np.floor(virtual)
+    a, b = part[ranks[0]], part[ranks[1]]
     gamma = float(virtual - below)
     difference = b - a
     if gamma >= 0.5:  # numpy's lerp, from the nearer end

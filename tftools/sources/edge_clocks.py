@@ -64,24 +64,36 @@ def edge_clock(child: str, stamps: Int64Array, records: Int64Array, ros: Int64Ar
             theirs = base == other
             elsewhere.append((int(stamps[theirs].min()), int(stamps[theirs].max()), figures.median_ns(offsets[theirs])))
         mine = base == main
-        stamps, records, ros, known = stamps[mine], records[mine], ros[mine], known[mine]
-    offset_clock = figures.median_ns(ros[known] - stamps[known]) if known.any() else None
-    reach_clock = _reach(ros[known] - stamps[known]) if known.any() else 0
+        stamps, records, ros, known, offsets = stamps[mine], records[mine], ros[mine], known[mine], offsets[mine]
+    offset_clock: int | None = None
+    reach_clock = 0
+    if known.any():
+        offset_clock, reach_clock = _median_and_reach(ros[known] - stamps[known])
+    offset_record, reach_record = _median_and_reach(offsets)
     return EdgeClock(
         child,
         arrivals,
-        figures.median_ns(records - stamps),
+        offset_record,
         offset_clock,
         figures.median_ns(stamps),
         figures.median_ns(records),
         int(stamps.min()),
         int(stamps.max()),
-        _reach(records - stamps),
+        reach_record,
         reach_clock,
         bases,
         int(records.max()),
         tuple(elsewhere),
     )
+
+
+def _median_and_reach(read: Int64Array) -> tuple[int, int]:
+    """``figures.median_ns(read)`` and ``_reach(read)``: of offsets none of them negative (most edges' arrivals
+    after their stamps), from one partition."""
+    if not len(read) or read.min() < 0:
+        return figures.median_ns(read), _reach(read)
+    median, reach = figures.median_and_percentile(read, 95)
+    return median, int(reach)
 
 
 def _reach(read: Int64Array) -> int:
