@@ -15,7 +15,7 @@ from tftools.sources.bag.scan import FileRead, FileScan, file_result, qos_in_fil
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import IN_DB3, IN_MCAP, OfferedQos, is_static_topic
-from tftools.sources.errors import CorruptBagError
+from tftools.sources.errors import CorruptBagError, UnreadableFileError
 from tftools.sources.storage.source import ByteSource, Files, FileSource
 
 if TYPE_CHECKING:
@@ -63,6 +63,7 @@ class Rosbag2Bag:
         scans: list[FileScan] = []
         labels: list[str] = []
         lost: list[str] = []
+        errors: list[CorruptBagError] = []
         missing: list[str] = []
         files = self.bag.files
         shares = in_turn(progress, [self.files.size(file) for file in files])
@@ -74,11 +75,15 @@ class Rosbag2Bag:
                 scans.append(self._scan_file(file, wanted, share, window, problems))
                 labels.append(file.name if len(files) > 1 else "")
             except CorruptBagError as e:
-                lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
+                errors.append(e)
+                lost.append(f"{file.name}: {e.detail}; nothing read from it")
         if missing:
             lost.insert(0, _missing(missing))
         if not scans:
-            raise CorruptBagError(str(self.path), "; ".join(lost) or "no bag files in it", self._unlisted_hint())
+            detail = "; ".join(lost) or "no bag files in it"
+            if errors and not missing and all(isinstance(e, UnreadableFileError) for e in errors):
+                raise UnreadableFileError(str(self.path), detail)
+            raise CorruptBagError(str(self.path), detail, self._unlisted_hint())
         problems += lost
         return scans, labels
 

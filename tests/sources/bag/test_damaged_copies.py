@@ -1,0 +1,119 @@
+"""Damaged copies of real recordings (made in tmp_path from the corpus, skipped where it is absent), each beside
+a designed case of the same damage: what can still be read is read and the loss said; what cannot gets one
+line that names the damage and what to do, in the recording's own format's words."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.sources.bag.damaged import copied, cut, rows
+from tests.sources.bag.reading import read_contents
+from tests.sources.ros2_helpers import varied_messages, write_rosbag2
+from tftools.sources.bag.rosbag2.db3 import cut_short
+from tftools.sources.errors import CorruptBagError, UnreadableFileError
+from tftools.sources.storage import source
+
+# A .db3 that ends inside a page: sqlite reads the missing bytes as zeros and the message there as whole.
+
+
+def test_cut_short_says_a_file_that_ends_inside_a_page_or_before_its_pages() -> None:
+    header = bytearray(100)
+    header[16:18] = (4096).to_bytes(2, "big")
+    header[28:32] = (10).to_bytes(4, "big")
+    header[24:28] = header[92:96] = (3).to_bytes(4, "big")
+    assert cut_short(bytes(header), 40960) == ""
+    assert cut_short(bytes(header), 40959) == "cut short: it ends 4095 bytes into a page of 4096"
+    assert cut_short(bytes(header), 8192) == "cut short: 2 of its 10 pages"
+    assert cut_short(bytes(header), 8192, check_count=False) == ""  # a -wal file beside it may hold the rest
+    header[92:96] = (2).to_bytes(4, "big")  # the count is stale: sqlite does not trust it either
+    assert cut_short(bytes(header), 8192) == ""
+    header[16:18] = (1000).to_bytes(2, "big")  # not a page size
+    assert cut_short(bytes(header), 40959) == ""
+
+
+def test_a_db3_one_byte_short_reads_its_whole_pages_only(tmp_path: Path) -> None:
+    bag = write_rosbag2(tmp_path / "bag", varied_messages(400))
+    whole, _ = rows(bag)
+    (db3,) = bag.glob("*.db3")
+    cut(db3, db3.stat().st_size - 1)
+    got, problems = rows(bag)
+    assert set(got) <= set(whole) and got
+    assert any("cut short: it ends 4095 bytes into a page of 4096" in p for p in problems)
+
+
+def test_a_real_db3_one_byte_short_is_said_damaged_not_read_into_false_findings(tmp_path: Path) -> None:
+    """tfbag's Franka Panda .db3 one byte short: sqlite read its last page's missing byte as 0, one rotation of
+    panda_link6 -> panda_link7 came out 0.21 off unit length, and tfx wtf warned of invalid_values and a jump,
+    with no word of damage; now the warning says the file is cut short and that page's messages are left out."""
+    bag = copied("tfbag-franka-panda-ros2", tmp_path)
+    whole, _ = rows(bag)
+    (db3,) = bag.glob("*.db3")
+    cut(db3, db3.stat().st_size - 1)
+    got, problems = rows(bag)
+    assert set(got) <= set(whole) and len(got) > 0.9 * len(whole)
+    assert any("cut short" in p for p in problems)
+
+
+# What cannot be read at all: one line, in the words of the problem and of the recording's format.
+
+
+def test_an_empty_file_is_said_empty(tmp_path: Path) -> None:
+    (tmp_path / "a.bag").write_bytes(b"")
+    with pytest.raises(CorruptBagError, match=r"a\.bag: corrupt or unreadable \(an empty file: 0 bytes\)"):
+        read_contents([tmp_path / "a.bag"])
+    bag = write_rosbag2(tmp_path / "bag", varied_messages(3))
+    (db3,) = bag.glob("*.db3")
+    cut(db3, 0)
+    with pytest.raises(CorruptBagError, match=r"\(bag\.db3: an empty file: 0 bytes; nothing read from it\)"):
+        read_contents([bag])
+
+
+def test_a_db3_bag_that_cannot_be_read_is_said_so_once_in_ros_2_words(tmp_path: Path) -> None:
+    """Was: 'corrupt or unreadable (x.db3: corrupt or unreadable (not an SQLite database); nothing read from it);
+    for a ROS1 bag try `rosbag reindex`'."""
+    bag = copied("tfbag-franka-panda-ros2", tmp_path)
+    (db3,) = bag.glob("*.db3")
+    cut(db3, 1000)
+    with pytest.raises(CorruptBagError) as raised:
+        read_contents([bag])
+    message = str(raised.value)
+    assert message.count("corrupt or unreadable") == 1 and "nothing read from it" in message
+    assert "rosbag reindex" not in raised.value.hint and ".recover" in raised.value.hint
+
+
+def _refused(monkeypatch: pytest.MonkeyPatch, refused: Path) -> None:
+    """``refused`` cannot be opened, as a file of mode 000 cannot (root reads any file: the test runs as
+    whoever runs it)."""
+    real_open = os.open
+
+    def guarded(path: Any, *args: Any, **kwargs: Any) -> int:
+        if Path(path) == refused:
+            raise PermissionError(13, "Permission denied", str(path))
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr(source.os, "open", guarded)
+
+
+def test_a_file_tfx_may_not_read_is_said_so_not_said_not_a_bag(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Was: 'not a ROS1 bag, ROS2 bag (sqlite3 or mcap) or MCAP file (Permission denied); tftools reads .bag, ...'
+    (the evo tf example bag, chmod 000, read by a user who is not root)."""
+    bag = copied("ros1_evo_tf_example.bag", tmp_path)
+    _refused(monkeypatch, bag)
+    with pytest.raises(UnreadableFileError) as raised:
+        read_contents([bag])
+    assert str(raised.value) == f"{bag}: cannot be opened (Permission denied)"
+    assert "chmod" in raised.value.hint
+
+
+def test_a_bag_directory_whose_files_tfx_may_not_read_is_said_so(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    bag = write_rosbag2(tmp_path / "bag", varied_messages(3))
+    (db3,) = bag.glob("*.db3")
+    _refused(monkeypatch, db3)
+    with pytest.raises(UnreadableFileError, match=r"cannot be opened \(bag\.db3: Permission denied; nothing read"):
+        read_contents([bag])
