@@ -278,6 +278,8 @@ def _add(
         span = result.end - result.start  # progress estimated by record time
         progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
         del fetched, payloads  # let go: the next fetch fills the same bytes again
+        if result.messages.full:  # the first headers of each topic alone were asked for, and are there
+            return
 
 
 def _salvage(path: Path, channels: dict[int, int], result: FileScan, damage: str) -> list[Row]:
