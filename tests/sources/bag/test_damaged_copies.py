@@ -70,6 +70,11 @@ def test_an_empty_file_is_said_empty(tmp_path: Path) -> None:
     cut(db3, 0)
     with pytest.raises(CorruptBagError, match=r"\(bag\.db3: an empty file: 0 bytes; nothing read from it\)"):
         read_contents([bag])
+    mcap = write_rosbag2(tmp_path / "mcap", varied_messages(3), storage="mcap")
+    (part,) = mcap.glob("*.mcap")
+    cut(part, 0)  # was: 'no MCAP magic at the start'
+    with pytest.raises(CorruptBagError, match=r"\(mcap\.mcap: an empty file: 0 bytes; nothing read from it\)"):
+        read_contents([mcap])
 
 
 def test_a_db3_bag_that_cannot_be_read_is_said_so_once_in_ros_2_words(tmp_path: Path) -> None:

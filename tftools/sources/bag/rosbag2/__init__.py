@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from tftools.sources import user_files
 from tftools.sources.bag.contents import ProgressCallback, RecordWindow, in_turn
+from tftools.sources.bag.formats import EMPTY_HINT
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileRead, FileScan, file_result, qos_in_files
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
@@ -119,6 +120,8 @@ class Rosbag2Bag:
             try:
                 plain = self._uncompressed(file)
                 source = self._open(plain)
+                if source.size == 0:
+                    raise CorruptBagError(str(file), "an empty file: 0 bytes", EMPTY_HINT)
                 if plain.suffix == ".mcap":
                     from tftools.sources.bag.mcap import McapFile  # each storage's module only when needed
 

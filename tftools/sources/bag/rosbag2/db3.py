@@ -12,7 +12,7 @@ import numpy as np
 
 from tftools.core.arrays import Int32Array
 from tftools.sources.bag.contents import ProgressCallback
-from tftools.sources.bag.formats import EMPTY_HINT, SQLITE3, ZSTD_MAGIC
+from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2.database import Database, Fetched, PageError
 from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
@@ -39,8 +39,6 @@ class Db3File:
         self.source = source
         wal = path.with_name(path.name + "-wal")
         self.unmerged = wal.name if wal.exists() and wal.stat().st_size > 0 else ""
-        if source.size == 0:
-            raise CorruptBagError(str(path), "an empty file: 0 bytes", EMPTY_HINT)
         if source.read(0, len(SQLITE3.magic)) != SQLITE3.magic:
             raise CorruptBagError(str(path), "not an SQLite database")
         #: What says the file was cut short ("" where nothing does): sqlite reads the missing bytes of its last
