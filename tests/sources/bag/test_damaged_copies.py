@@ -15,7 +15,6 @@ from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import varied_messages, write_rosbag2
 from tftools.sources.bag.rosbag2.db3 import cut_short
 from tftools.sources.errors import CorruptBagError, UnreadableFileError
-from tftools.sources.storage import source
 
 # A .db3 that ends inside a page: sqlite reads the missing bytes as zeros and the message there as whole.
 
@@ -100,7 +99,7 @@ def _refused(monkeypatch: pytest.MonkeyPatch, refused: Path) -> None:
             raise PermissionError(13, "Permission denied", str(path))
         return real_open(path, *args, **kwargs)
 
-    monkeypatch.setattr(source.os, "open", guarded)
+    monkeypatch.setattr(os, "open", guarded)  # as FileSource calls it
 
 
 def test_a_file_tfx_may_not_read_is_said_so_not_said_not_a_bag(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -85,19 +85,19 @@ def test_a_db3_read_for_a_few_headers_per_topic_stops_once_each_has_them(
     """The second read of a recording without tf (``no_transforms.DATA_HEADERS`` of each topic) stops after the
     fetch that gives every topic its headers, not at the file's end; a topic short of them reads it all."""
     from tftools.sources.bag.rosbag2 import db3
+    from tftools.sources.bag.spans import Spans
 
     store = typestore()
     images = [Other("/camera", 1_000 + i, _image(store, 100 + i, f"camera{i}", 100), IMAGE) for i in range(400)]
     bag = write_rosbag2(tmp_path / "images", images)
     fetched: list[int] = []
-    spans = db3.Spans
 
     def counted(*columns: Any) -> Any:
         fetched.append(len(columns[1]))
-        return spans(*columns)
+        return Spans(*columns)
 
     monkeypatch.setattr(db3, "_FETCH", 10)
-    monkeypatch.setattr(db3, "Spans", counted)
+    monkeypatch.setattr("tftools.sources.bag.rosbag2.db3.Spans", counted)
     (stream,) = read_recording([bag], headers=(), header_limit=25, allow_empty=True).stamped.streams
     assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [f"camera{i}" for i in range(25)]
     assert sum(fetched) == 30  # three fetches of 10: the last that was needed
