@@ -121,3 +121,16 @@ def test_a_bag_directory_whose_files_tfx_may_not_read_is_said_so(
     _refused(monkeypatch, db3)
     with pytest.raises(UnreadableFileError, match=r"cannot be opened \(bag\.db3: Permission denied; nothing read"):
         read_contents([bag])
+
+
+def test_a_metadata_yaml_without_its_files_says_to_copy_them(tmp_path: Path) -> None:
+    """Was: '... is listed in metadata.yaml but missing; ...; for a ROS1 bag try `rosbag reindex`' (the Franka
+    Panda bag directory's metadata.yaml copied alone)."""
+    bag = copied("tfbag-franka-panda-ros2", tmp_path)
+    (db3,) = bag.glob("*.db3")
+    db3.unlink()
+    with pytest.raises(
+        CorruptBagError, match=r"rosbagFrankaPandaRos2\.bag\.db3 is listed in metadata\.yaml but missing"
+    ) as raised:
+        read_contents([bag])
+    assert raised.value.hint.startswith("copy the files metadata.yaml lists into the directory")

@@ -84,7 +84,9 @@ class Rosbag2Bag:
             detail = "; ".join(lost) or "no bag files in it"
             if errors and not missing and all(isinstance(e, UnreadableFileError) for e in errors):
                 raise UnreadableFileError(str(self.path), detail)
-            raise CorruptBagError(str(self.path), detail, self._unlisted_hint())
+            every_missing = "copy the files metadata.yaml lists into the directory beside it (it holds no message)"
+            hint = self._unlisted_hint() or (every_missing if missing and not errors else "")
+            raise CorruptBagError(str(self.path), detail, hint)
         problems += lost
         return scans, labels
 
