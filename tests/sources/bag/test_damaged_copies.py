@@ -134,3 +134,14 @@ def test_a_metadata_yaml_without_its_files_says_to_copy_them(tmp_path: Path) -> 
     ) as raised:
         read_contents([bag])
     assert raised.value.hint.startswith("copy the files metadata.yaml lists into the directory")
+
+
+def test_an_mcap_cut_in_its_first_chunk_says_nothing_was_read_not_a_time_of_0(tmp_path: Path) -> None:
+    """Was: 'cut short at byte 1000, inside the record at byte 90: read the 0 messages before it, up to record
+    time 0.000 s; the rest is lost' (the CougUV AUV's .mcap cut at 1,000 bytes)."""
+    bag = copied("ros2_mcap_coug_auv_replayed", tmp_path)
+    (part,) = bag.glob("*.mcap")
+    cut(part, 1000)
+    assert read_contents([bag]).problems == [
+        "cut short at byte 1000, inside the record at byte 90: no message before it could be read; the rest is lost"
+    ]
