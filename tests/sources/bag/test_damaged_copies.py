@@ -5,6 +5,8 @@ line that names the damage and what to do, in the recording's own format's words
 from __future__ import annotations
 
 import os
+import sqlite3
+from contextlib import closing
 from pathlib import Path
 from typing import Any
 
@@ -12,8 +14,9 @@ import pytest
 
 from tests.sources.bag.damaged import copied, cut, rows
 from tests.sources.bag.reading import read_contents
-from tests.sources.ros2_helpers import varied_messages, write_rosbag2
+from tests.sources.ros2_helpers import Other, varied_messages, write_rosbag2
 from tftools.sources.bag.rosbag2.db3 import cut_short
+from tftools.sources.bag.rosbag2.db3_salvage import salvage_topics
 from tftools.sources.errors import CorruptBagError, UnreadableFileError
 
 # A .db3 that ends inside a page: sqlite reads the missing bytes as zeros and the message there as whole.
@@ -145,3 +148,42 @@ def test_an_mcap_cut_in_its_first_chunk_says_nothing_was_read_not_a_time_of_0(tm
     assert read_contents([bag]).problems == [
         "cut short at byte 1000, inside the record at byte 90: no message before it could be read; the rest is lost"
     ]
+
+
+def _topics_table(db3: Path) -> tuple[list[tuple[object, ...]], int, int]:
+    """The topics table's rows, its root page and the page size (the file opened immutable: not changed)."""
+    with closing(sqlite3.connect(f"file:{db3}?mode=ro&immutable=1", uri=True)) as db:
+        rows = db.execute("SELECT id, name, type, serialization_format, offered_qos_profiles FROM topics").fetchall()
+        (root,) = db.execute("SELECT rootpage FROM sqlite_master WHERE name = 'topics'").fetchone()
+        (page_size,) = db.execute("PRAGMA page_size").fetchone()
+    return rows, root, page_size
+
+
+def test_a_db3_whose_topics_table_sqlite_cannot_read_has_its_topics_read_from_their_pages(tmp_path: Path) -> None:
+    """A topics table of many topics is a b-tree: its root page damaged, sqlite refuses the whole table (and so
+    tfx the whole file) where its leaf pages still hold every topic."""
+    topics = [f"/sensor_{i:03d}/{'x' * 60}" for i in range(150)]
+    written = [*varied_messages(5), *(Other(t, 10_000 + i, b"\0\1\0\0\0\0\0\0") for i, t in enumerate(topics))]
+    bag = write_rosbag2(tmp_path / "bag", written)
+    (db3,) = bag.glob("*.db3")
+    table, root, page_size = _topics_table(db3)
+    with db3.open("r+b") as f:  # the root, an interior page: its cells' pointers zeroed
+        f.seek((root - 1) * page_size + 8)
+        f.write(bytes(64))
+    assert [row[:5] for row in salvage_topics(db3.read_bytes())] == table
+    got, problems = rows(bag)
+    assert got and problems[0].startswith("its topics table is damaged (sqlite: ")
+    assert problems[0].endswith(f"{len(table)} topics read from its intact pages")
+
+
+def test_a_real_db3_cut_where_its_topics_pages_are_reads_the_messages_before_the_cut(tmp_path: Path) -> None:
+    """The Husky UR MoveIt 2 .db3 (29 topics, 5.3 MB) cut at half: 'corrupt or unreadable (le_bag2_0.db3: its
+    topics table cannot be read: database disk image is malformed; nothing read from it)', exit 2 on every
+    command; now 28 topics from their pages and the transforms of the whole pages before the cut."""
+    bag = copied("ros2_db3_husky_ur_moveit2_gazebo_long_2025", tmp_path)
+    whole, _ = rows(bag)
+    (db3,) = bag.glob("*.db3")
+    cut(db3, db3.stat().st_size // 2)
+    got, problems = rows(bag)
+    assert set(got) <= set(whole) and len(got) > len(whole) // 3
+    assert any(p.startswith("its topics table is damaged") for p in problems)

@@ -15,7 +15,7 @@ from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2.database import Database, Fetched, PageError
-from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
+from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage, salvage_topics
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import zstd_messages
@@ -89,7 +89,12 @@ def _topics(db: Database) -> list[TopicRow | str]:
         later = ", ".join(c if c in present else "''" for c in _LATER_COLUMNS)
         rows = db.rows(f"SELECT id, name, type, serialization_format, {later} FROM topics")
     except sqlite3.Error as e:
-        raise CorruptBagError(str(db.path), f"its topics table cannot be read: {e}") from None
+        with db.path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
+            found = salvage_topics(data)
+        if not found:
+            raise CorruptBagError(str(db.path), f"its topics table cannot be read: {e}") from None
+        damage = f"its topics table is damaged (sqlite: {e}): {len(found)} topics read from its intact pages"
+        return [damage, *found]
     topics: list[TopicRow | str] = []
     for topic_id, *texts in rows:
         if not isinstance(topic_id, int) or not 0 <= topic_id <= _MAX_TOPIC_ID:

@@ -75,6 +75,30 @@ def salvage(data: Bytes, topic_ids: Collection[int]) -> Salvaged:
     return Salvaged(rows, len(times), first, last, lost)
 
 
+def salvage_topics(data: Bytes) -> list[tuple[int, str, str, str, str, str]]:
+    """The rows of rosbag2's topics table in the whole leaf pages of the database image ``data``: (id, name,
+    type, serialization format, offered QoS profiles, type hash), by id. A topics record is its id as rowid,
+    then four texts, or five (Iron on); it is told from message_definitions' (as many texts) by its name,
+    which begins with a slash, where a type does not."""
+    pages = _Pages.of(data)
+    found: dict[int, tuple[int, str, str, str, str, str]] = {}
+    if pages is None:
+        return []
+    for number in range(1, pages.count + 1):
+        for cell in pages.leaf_cells(number):
+            try:
+                row = pages.texts(cell)
+            except DamageError:
+                continue
+            if row is None:
+                continue
+            rowid, texts = row
+            if len(texts) in (4, 5) and texts[0].startswith("/") and "/" in texts[1] and texts[2]:
+                name, kind, encoding, qos = texts[:4]
+                found.setdefault(rowid, (rowid, name, kind, encoding, qos, texts[4] if len(texts) == 5 else ""))
+    return [found[rowid] for rowid in sorted(found)]
+
+
 _MALFORMED = "bytes that do not follow the file format"
 _LOST_OVERFLOW = "a record whose overflow pages are missing or damaged"
 
@@ -137,6 +161,35 @@ class _Pages:
             return rowid, topic_id, time, None
         rest = self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local) if spills else b""
         return rowid, topic_id, time, record[head:] + rest
+
+    def texts(self, cell: int) -> tuple[int, list[str]] | None:
+        """(rowid, its texts) of a record at ``cell`` that is its rowid (a NULL) and texts alone; None for
+        others. Its overflow pages are followed (a topic's QoS profiles may spill)."""
+        page_end = cell - cell % self.page_size + self.usable
+        size, at = _varint(self.data, cell, page_end)
+        rowid, at = _varint(self.data, at, page_end)
+        local = self._local_size(size)
+        spills = local < size
+        if at + local + 4 * spills > page_end or size > len(self.data):
+            raise DamageError(_MALFORMED)
+        record = bytes(self.data[at : at + local])
+        header_size, head = _varint(record, 0, len(record))
+        types: list[int] = []
+        while head < header_size and len(types) < 7:
+            serial, head = _varint(record, head, header_size)
+            types.append(serial)
+        if types[:1] != [0] or head != header_size or not all(t >= 13 and t % 2 for t in types[1:]):
+            return None
+        if spills:
+            record += self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local)
+        texts, at = [], header_size
+        for serial in types[1:]:
+            length = (serial - 13) // 2
+            if at + length > len(record):
+                raise DamageError(_MALFORMED)
+            texts.append(record[at : at + length].decode("utf-8", "replace"))
+            at += length
+        return rowid, texts
 
     def _local_size(self, size: int) -> int:
         """The bytes of a table leaf cell's ``size``-byte payload kept in the cell itself."""
