@@ -16,7 +16,7 @@ from tests.sources.bag.damaged import copied, cut, rows
 from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import Other, varied_messages, write_rosbag2
 from tftools.sources.bag.rosbag2.db3 import cut_short
-from tftools.sources.bag.rosbag2.db3_salvage import salvage_topics
+from tftools.sources.bag.rosbag2.db3_salvage import salvage, salvage_topics
 from tftools.sources.errors import CorruptBagError, UnreadableFileError
 
 # A .db3 that ends inside a page: sqlite reads the missing bytes as zeros and the message there as whole.
@@ -187,3 +187,18 @@ def test_a_real_db3_cut_where_its_topics_pages_are_reads_the_messages_before_the
     got, problems = rows(bag)
     assert set(got) <= set(whole) and len(got) > len(whole) // 3
     assert any(p.startswith("its topics table is damaged") for p in problems)
+
+
+def test_the_pages_of_a_damaged_db3_give_a_header_topics_messages_cut_to_their_header(tmp_path: Path) -> None:
+    """Read from its pages (a .db3 that sqlite refuses), a camera's images are kept as far as their header
+    reaches, as sqlite hands them over: not every image whole in memory at once."""
+    images = [Other("/camera", 1_000 + i, bytes([i]) * 50_000, "sensor_msgs/msg/Image") for i in range(20)]
+    bag = write_rosbag2(tmp_path / "bag", [*varied_messages(3), *images])
+    (db3,) = bag.glob("*.db3")
+    with closing(sqlite3.connect(f"file:{db3}?mode=ro&immutable=1", uri=True)) as db:
+        ((camera,),) = db.execute("SELECT id FROM topics WHERE name = '/camera'").fetchall()
+    data = db3.read_bytes()
+    whole = salvage(data, [camera]).rows
+    cut_rows = salvage(data, [camera], [camera], 64).rows
+    assert [len(payload) for _, _, payload in whole] == [50_000] * 20
+    assert [payload for _, _, payload in cut_rows] == [payload[:64] for _, _, payload in whole]

@@ -186,7 +186,7 @@ def _messages(
     size = path.stat().st_size
     lookup = lookup_of(channels)
     if cut:
-        _add_salvaged(path, channels, lookup, result, cut, size)
+        _add_salvaged(path, channels, headers, lookup, result, cut, size)
         return
     ids = ",".join(str(int(i)) for i in channels)
     headed = ",".join(str(int(i)) for i in headers)
@@ -223,7 +223,7 @@ def _messages(
         _add(db.messages(query, _FETCH, _FETCH_BYTES, list(channels)), lookup, result, size, progress)
     except sqlite3.Error as e:  # start again from the pages, forgetting what the query gave
         result.messages = result.messages.emptied()
-        _add_salvaged(path, channels, lookup, result, f"sqlite: {e}", size)
+        _add_salvaged(path, channels, headers, lookup, result, f"sqlite: {e}", size)
 
 
 def lookup_of(channels: dict[int, int]) -> Int32Array:
@@ -234,10 +234,17 @@ def lookup_of(channels: dict[int, int]) -> Int32Array:
 
 
 def _add_salvaged(
-    path: Path, channels: dict[int, int], lookup: Int32Array, result: FileScan, damage: str, size: int
+    path: Path,
+    channels: dict[int, int],
+    headers: set[int],
+    lookup: Int32Array,
+    result: FileScan,
+    damage: str,
+    size: int,
 ) -> None:
-    """The messages of the file's whole pages into ``result``, ``damage`` said as why they were read so."""
-    topic_ids, times, salvaged = zip(*_salvage(path, channels, result, damage), strict=True)
+    """The messages of the file's whole pages into ``result`` (of ``headers`` topics, their headers' bytes),
+    ``damage`` said as why they were read so."""
+    topic_ids, times, salvaged = zip(*_salvage(path, channels, headers, result, damage), strict=True)
     _unpack_if_compressed(salvaged[0], result, size)
     result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(times)), salvaged)
 
@@ -285,9 +292,9 @@ def _add(
             return
 
 
-def _salvage(path: Path, channels: dict[int, int], result: FileScan, damage: str) -> list[Row]:
+def _salvage(path: Path, channels: dict[int, int], headers: set[int], result: FileScan, damage: str) -> list[Row]:
     with path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
-        found = salvage(data, channels)
+        found = salvage(data, channels, headers, HEADER_BYTES)
     rows = found.rows
     result.windowed = False
     if not rows:

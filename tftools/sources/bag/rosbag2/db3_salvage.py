@@ -20,6 +20,7 @@ import struct
 from collections.abc import Collection
 
 from tftools.sources.bag.damage import DamageError
+from tftools.sources.bag.formats import ZSTD_MAGIC
 
 Bytes = bytes | mmap.mmap
 Row = tuple[int, int, bytes]  # topic id, record time, payload
@@ -47,10 +48,11 @@ class Salvaged:
         self.lost = lost
 
 
-def salvage(data: Bytes, topic_ids: Collection[int]) -> Salvaged:
+def salvage(data: Bytes, topic_ids: Collection[int], headed: Collection[int] = (), header_bytes: int = 0) -> Salvaged:
     """Every messages record in the whole leaf pages of the database image ``data``, with the
-    payloads of those of ``topic_ids``. Reads no byte outside ``data``, follows no overflow chain
-    round a loop, and in all no more overflow pages than the file holds (however many records
+    payloads of those of ``topic_ids`` (of ``headed`` ones, read for their header, the first ``header_bytes``
+    but where compressed, as sqlite hands them over). Reads no byte outside ``data``, follows no overflow
+    chain round a loop, and in all no more overflow pages than the file holds (however many records
     claim the same ones)."""
     pages = _Pages.of(data)
     if pages is None:
@@ -68,6 +70,8 @@ def salvage(data: Bytes, topic_ids: Collection[int]) -> Salvaged:
             if message is not None:
                 rowid, topic_id, time, payload = message
                 times[rowid] = time
+                if payload is not None and topic_id in headed and payload[:4] != ZSTD_MAGIC:
+                    payload = payload[:header_bytes]  # not a camera's image held whole (memory)
                 if payload is not None:
                     wanted[rowid] = (topic_id, time, payload)
     rows = [wanted[rowid] for rowid in sorted(wanted, key=lambda rowid: (wanted[rowid][1], rowid))]
