@@ -140,19 +140,7 @@ class _Pages:
     def message(self, cell: int, topic_ids: Collection[int]) -> tuple[int, int, int, bytes | None] | None:
         """(id, topic id, record time, payload) of the messages record at ``cell``, the payload only
         for ``topic_ids``; None for other tables' records."""
-        page_end = cell - cell % self.page_size + self.usable
-        size, at = _varint(self.data, cell, page_end)
-        rowid, at = _varint(self.data, at, page_end)
-        local = self._local_size(size)
-        spills = local < size
-        if at + local + 4 * spills > page_end or size > len(self.data):
-            raise DamageError(_MALFORMED)
-        record = self.data[at : at + local]
-        header_size, head = _varint(record, 0, len(record))
-        types: list[int] = []
-        while head < header_size and len(types) < 5:
-            serial, head = _varint(record, head, header_size)
-            types.append(serial)
+        size, rowid, at, record, header_size, _, types = self._record(cell, 5)
         integers = all(t in _INT_SIZES or t in _INT_CONSTANTS for t in types[1:3])
         if types[:1] != [0] or len(types) != 4 or not integers or types[3] < 12 or types[3] % 2:  # a blob: even, >= 12
             return None
@@ -163,37 +151,46 @@ class _Pages:
         rowid -= (1 << 64) * (rowid >> 63)
         if topic_id not in topic_ids:
             return rowid, topic_id, time, None
-        rest = self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local) if spills else b""
-        return rowid, topic_id, time, record[head:] + rest
+        return rowid, topic_id, time, record[head:] + self._spilled(at, len(record), size)
 
     def texts(self, cell: int) -> tuple[int, list[str]] | None:
         """(rowid, its texts) of a record at ``cell`` that is its rowid (a NULL) and texts alone; None for
         others. Its overflow pages are followed (a topic's QoS profiles may spill)."""
+        size, rowid, at, record, header_size, head, types = self._record(cell, 7)
+        if types[:1] != [0] or head != header_size or not all(t >= 13 and t % 2 for t in types[1:]):
+            return None
+        whole = record + self._spilled(at, len(record), size)
+        texts, at = [], header_size
+        for serial in types[1:]:
+            length = (serial - 13) // 2
+            if at + length > len(whole):
+                raise DamageError(_MALFORMED)
+            texts.append(whole[at : at + length].decode("utf-8", "replace"))
+            at += length
+        return rowid, texts
+
+    def _record(self, cell: int, most: int) -> tuple[int, int, int, bytes, int, int, list[int]]:
+        """The table leaf cell at ``cell``: its payload's size, its rowid, where its payload starts, the bytes of
+        it in the cell, and of its record header the size, how far ``most`` serial types reach, and those types;
+        ``DamageError`` where the cell does not fit its page."""
         page_end = cell - cell % self.page_size + self.usable
         size, at = _varint(self.data, cell, page_end)
         rowid, at = _varint(self.data, at, page_end)
         local = self._local_size(size)
-        spills = local < size
-        if at + local + 4 * spills > page_end or size > len(self.data):
+        if at + local + 4 * (local < size) > page_end or size > len(self.data):
             raise DamageError(_MALFORMED)
-        record = bytes(self.data[at : at + local])
+        record = bytes(self.data[at : at + local])  # an mmap slice is bytes already: not copied again
         header_size, head = _varint(record, 0, len(record))
         types: list[int] = []
-        while head < header_size and len(types) < 7:
+        while head < header_size and len(types) < most:
             serial, head = _varint(record, head, header_size)
             types.append(serial)
-        if types[:1] != [0] or head != header_size or not all(t >= 13 and t % 2 for t in types[1:]):
-            return None
-        if spills:
-            record += self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local)
-        texts, at = [], header_size
-        for serial in types[1:]:
-            length = (serial - 13) // 2
-            if at + length > len(record):
-                raise DamageError(_MALFORMED)
-            texts.append(record[at : at + length].decode("utf-8", "replace"))
-            at += length
-        return rowid, texts
+        return size, rowid, at, record, header_size, head, types
+
+    def _spilled(self, at: int, local: int, size: int) -> bytes:
+        """The bytes of a payload of ``size`` starting at ``at`` past the ``local`` ones in its cell: from its
+        overflow pages."""
+        return self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local) if local < size else b""
 
     def _local_size(self, size: int) -> int:
         """The bytes of a table leaf cell's ``size``-byte payload kept in the cell itself."""
