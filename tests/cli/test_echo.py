@@ -110,7 +110,7 @@ def test_unknown_frame_is_one_line_with_close_matches(tfx: Tfx) -> None:
     [
         (lambda tmp: tmp / "missing.bag", "no such file"),
         (lambda tmp: _write(tmp / "noise.bag", bytes(range(256)) * 20), "not a ROS1 bag"),
-        (lambda tmp: _write(tmp / "empty.bag", b""), "not a ROS1 bag"),
+        (lambda tmp: _write(tmp / "empty.bag", b""), "an empty file: 0 bytes"),
         (lambda tmp: _write(tmp / "old.bag", b"#ROSRECORD V1.2\n" + b"\0" * 64), "a ROS 1 bag of the old format 1.2"),
     ],
 )

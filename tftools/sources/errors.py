@@ -64,10 +64,32 @@ class CorruptBagError(BagError):
     """Nothing could be read; a bag that is only partly damaged is read as far as it goes."""
 
     def __init__(self, path: str, detail: str, hint: str = "") -> None:
-        super().__init__(
+        super().__init__(path, f"corrupt or unreadable ({detail})", hint or repair_hint(path))
+        self.detail = detail
+
+
+def repair_hint(path: str) -> str:
+    """What to do about a damaged recording, in its format's tools (by its name: a ROS 1 bag's tool on a
+    ROS 2 bag helps no one)."""
+    if path.endswith(".bag"):
+        return "re-copy the file if it was cut short; else run `rosbag reindex` on a copy"
+    if path.endswith((".mcap", ".mcap.zstd")):
+        return "re-copy the file if it was cut short; else `mcap recover` (the mcap CLI) rescues what it can read"
+    return (  # a .db3, or a ROS 2 bag directory
+        "re-copy the bag if it was cut short; else sqlite3's .recover rescues what a damaged .db3 still holds"
+        " (sqlite3 COPY.db3 .recover | sqlite3 FIXED.db3)"
+    )
+
+
+class UnreadableFileError(CorruptBagError):
+    """A file the system does not let tfx read (its permissions): nothing need be wrong with its bytes."""
+
+    def __init__(self, path: str, detail: str) -> None:
+        BagError.__init__(
+            self,
             path,
-            f"corrupt or unreadable ({detail})",
-            hint or "for a ROS1 bag try `rosbag reindex`; re-copy the file if it was cut short",
+            f"cannot be opened ({detail})",
+            "check its permissions (ls -l): make it readable (chmod +r) or run tfx as a user who may read it",
         )
         self.detail = detail
 

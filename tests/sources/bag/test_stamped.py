@@ -79,6 +79,33 @@ def test_a_read_of_a_few_headers_per_topic_decodes_no_more(tmp_path: Path, stora
     assert [every.frame_ids[f] for f in every.frame.tolist()] == [f"camera{i}" for i in range(6)]
 
 
+def test_a_db3_read_for_a_few_headers_per_topic_stops_once_each_has_them(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The second read of a recording without tf (``no_transforms.DATA_HEADERS`` of each topic) stops after the
+    fetch that gives every topic its headers, not at the file's end; a topic short of them reads it all."""
+    from tftools.sources.bag.rosbag2 import db3
+    from tftools.sources.bag.spans import Spans
+
+    store = typestore()
+    images = [Other("/camera", 1_000 + i, _image(store, 100 + i, f"camera{i}", 100), IMAGE) for i in range(400)]
+    bag = write_rosbag2(tmp_path / "images", images)
+    fetched: list[int] = []
+
+    def counted(*columns: Any) -> Any:
+        fetched.append(len(columns[1]))
+        return Spans(*columns)
+
+    monkeypatch.setattr(db3, "_FETCH", 10)
+    monkeypatch.setattr("tftools.sources.bag.rosbag2.db3.Spans", counted)
+    (stream,) = read_recording([bag], headers=(), header_limit=25, allow_empty=True).stamped.streams
+    assert [stream.frame_ids[f] for f in stream.frame.tolist()] == [f"camera{i}" for i in range(25)]
+    assert sum(fetched) == 30  # three fetches of 10: the last that was needed
+    fetched.clear()
+    (stream,) = read_recording([bag], headers=(), header_limit=500, allow_empty=True).stamped.streams
+    assert len(stream) == 400 and sum(fetched) == 400
+
+
 def test_a_ros1_bag_gives_each_images_header_reading_little_more(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 from typing import TYPE_CHECKING
 
-from tftools.sources.errors import CorruptBagError, OldRos1BagError, UnknownBagFormatError
+from tftools.sources.errors import CorruptBagError, OldRos1BagError, UnknownBagFormatError, UnreadableFileError
 from tftools.sources.storage import open_files
 from tftools.sources.storage.locations import METADATA
 from tftools.values import value
@@ -35,6 +35,8 @@ ROSBAG2_DIRECTORY = Format("rosbag2", b"", "rosbag2")
 ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
 #: A rosbag2 file compressed whole (``--compression-mode file``), given without its folder: read as its folder's.
 ZSTD_FILE_SUFFIXES = (".db3.zstd", ".mcap.zstd")
+#: What to do about a recording of 0 bytes: nothing in it can be read, whatever its format.
+EMPTY_HINT = "its recorder wrote nothing (killed at once?) or its copy failed: re-copy it"
 #: Bytes read to recognise a file.
 HEAD_BYTES = max(len(f.magic) for f in FORMATS)
 
@@ -55,10 +57,14 @@ def sniff(files: Files) -> tuple[Format, ByteSource | None]:
         return ROSBAG2_DIRECTORY, None
     try:
         source = files.open(root)
+    except UnreadableFileError:  # a recording, maybe, that tfx may not read: said so, not that it is none
+        raise
     except CorruptBagError as e:  # not a file that can be read (a FIFO, say): not a recording
         raise UnknownBagFormatError(e.path, e.detail) from None
     try:
         head = source.read(0, HEAD_BYTES)
+        if not head:
+            raise CorruptBagError(str(root), "an empty file: 0 bytes", EMPTY_HINT)
         found = format_of_head(head)
         if found is None and head.startswith(ZSTD_MAGIC) and root.name.endswith(ZSTD_FILE_SUFFIXES):
             source.close()

@@ -137,6 +137,13 @@ class MessageSet:
             fresh.channel(c.topic, c.codec, publisher=c.publisher, tie=c.tie)
         return fresh
 
+    @property
+    def full(self) -> bool:
+        """Whether every channel keeps only its first few headers (``HeaderCodec.limit``) and has them: the set
+        leaves out whatever else the file holds, so its reader may stop there."""
+        limits = self._limits.values()
+        return len(self._limits) == len(self.channels) > 0 and all(kept >= limit for limit, kept in limits)
+
     def may_keep(self, start: int, end: int) -> bool:
         """Whether messages recorded from ``start`` to ``end`` (both included) may be kept: a format
         whose index says so of a part of its file reads the part only then."""

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any, BinaryIO, Protocol
 
 from tftools.sources.bag.damage import DamageError
+from tftools.sources.bag.lz4_prefix import lz4_prefix
 
 MAX_UNPACKED = 256 << 20  # bytes one chunk, record or message may decompress to, whatever it declares
 MAX_RATIO = 1000  # a file's decompressed bytes in all, per byte of the file (real bags: ~3 to 50)
@@ -89,7 +90,7 @@ def unpack(compression: str, data: bytes | memoryview, declared: int, budget: Bu
             from lz4.frame import LZ4FrameDecompressor
         except ImportError:
             raise CompressionUnavailableError("the lz4 package is not installed (pip install lz4)") from None
-        return _fed("lz4", LZ4FrameDecompressor(), data, declared, budget)
+        return _lz4(LZ4FrameDecompressor(), data, declared, budget)
     if compression == "zstd":
         return zstd(data, declared, budget)
     raise CompressionUnavailableError(f"the compression {compression!r} is unknown")
@@ -193,6 +194,20 @@ def _fed(
     except (OSError, EOFError, RuntimeError, ValueError) as e:  # what bz2 and lz4 raise on bad data
         loss = f"{codec} data damaged ({e})"
     return _ended(codec, out, declared, limit, cap, loss, budget)
+
+
+def _lz4(decompressor: _Decompressor, data: bytes | memoryview, declared: int, budget: Budget | None) -> Unpacked:
+    """``data`` as lz4 decompresses it; where it ends inside a block (a file cut short), that block up to
+    the cut too (``lz4_prefix``): lz4 gives a block only once it is whole."""
+    fed = _fed("lz4", decompressor, data, declared, budget)
+    if decompressor.eof or not fed.loss.startswith("lz4 data cut short"):
+        return fed
+    limit, cap = allowed(declared, budget)
+    if budget is not None:
+        budget.left += len(fed.data)  # spent again below, on what is kept
+    prefix = lz4_prefix(data, limit + 1)
+    out = prefix if len(prefix) > len(fed.data) else bytearray(fed.data)
+    return _ended("lz4", out, declared, limit, cap, "", budget)
 
 
 def _ended(

@@ -25,7 +25,7 @@ import numpy as np
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.sources import user_files
 from tftools.sources.contents import Fetched
-from tftools.sources.errors import BagNotFoundError, CorruptBagError
+from tftools.sources.errors import BagNotFoundError, CorruptBagError, UnreadableFileError
 
 MAX_GAP = 16 << 10  # bytes between two wanted ranges of a local file read along with them: cheaper than one more read
 #: Bytes of cached pages the kernel maps along with a page of a file faulted in (Linux's fault-around: 64 KiB
@@ -165,6 +165,8 @@ class FileSource(ByteSource):
         """Open the file (a regular one only), and return its size."""
         try:  # not blocking: a FIFO would wait for a writer
             fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+        except PermissionError as e:
+            raise UnreadableFileError(str(self.path), e.strerror or str(e)) from None
         except OSError as e:
             raise CorruptBagError(str(self.path), e.strerror or str(e)) from None
         status = os.fstat(fd)

@@ -40,10 +40,12 @@ def stream(source: ByteSource, channels: Channels, progress: ProgressCallback) -
         return
     if not result.message_count and not reader.chunks_read:
         raise DamageError(damage)
-    result.note_problem(
-        f"{damage}: read the {result.message_count} messages before it, up to record time {result.end / 1e9:.3f} s;"
-        " the rest is lost"
+    read = (
+        f"read the {result.message_count} messages before it, up to record time {result.end / 1e9:.3f} s"
+        if result.message_count
+        else "no message before it could be read"
     )
+    result.note_problem(f"{damage}: {read}; the rest is lost")
 
 
 class _Stream:

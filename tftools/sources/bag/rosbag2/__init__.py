@@ -10,12 +10,13 @@ from typing import TYPE_CHECKING, Any
 
 from tftools.sources import user_files
 from tftools.sources.bag.contents import ProgressCallback, RecordWindow, in_turn
+from tftools.sources.bag.formats import EMPTY_HINT
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.scan import FileRead, FileScan, file_result, qos_in_files
 from tftools.sources.bag.unpack import Budget, CompressionUnavailableError, zstd_file, zstd_messages
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import IN_DB3, IN_MCAP, OfferedQos, is_static_topic
-from tftools.sources.errors import CorruptBagError
+from tftools.sources.errors import CorruptBagError, UnreadableFileError
 from tftools.sources.storage.source import ByteSource, Files, FileSource
 
 if TYPE_CHECKING:
@@ -63,6 +64,7 @@ class Rosbag2Bag:
         scans: list[FileScan] = []
         labels: list[str] = []
         lost: list[str] = []
+        errors: list[CorruptBagError] = []
         missing: list[str] = []
         files = self.bag.files
         shares = in_turn(progress, [self.files.size(file) for file in files])
@@ -74,11 +76,17 @@ class Rosbag2Bag:
                 scans.append(self._scan_file(file, wanted, share, window, problems))
                 labels.append(file.name if len(files) > 1 else "")
             except CorruptBagError as e:
-                lost.append(f"{file.name}: {str(e).removeprefix(e.path + ': ')}; nothing read from it")
+                errors.append(e)
+                lost.append(f"{file.name}: {e.detail}; nothing read from it")
         if missing:
             lost.insert(0, _missing(missing))
         if not scans:
-            raise CorruptBagError(str(self.path), "; ".join(lost) or "no bag files in it", self._unlisted_hint())
+            detail = "; ".join(lost) or "no bag files in it"
+            if errors and not missing and all(isinstance(e, UnreadableFileError) for e in errors):
+                raise UnreadableFileError(str(self.path), detail)
+            every_missing = "copy the files metadata.yaml lists into the directory beside it (it holds no message)"
+            hint = self._unlisted_hint() or (every_missing if missing and not errors else "")
+            raise CorruptBagError(str(self.path), detail, hint)
         problems += lost
         return scans, labels
 
@@ -114,6 +122,8 @@ class Rosbag2Bag:
             try:
                 plain = self._uncompressed(file)
                 source = self._open(plain)
+                if source.size == 0:
+                    raise CorruptBagError(str(file), "an empty file: 0 bytes", EMPTY_HINT)
                 if plain.suffix == ".mcap":
                     from tftools.sources.bag.mcap import McapFile  # each storage's module only when needed
 

@@ -15,7 +15,7 @@ from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2.database import Database, Fetched, PageError
-from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage
+from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage, salvage_topics
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import zstd_messages
@@ -41,6 +41,9 @@ class Db3File:
         self.unmerged = wal.name if wal.exists() and wal.stat().st_size > 0 else ""
         if source.read(0, len(SQLITE3.magic)) != SQLITE3.magic:
             raise CorruptBagError(str(path), "not an SQLite database")
+        #: What says the file was cut short ("" where nothing does): sqlite reads the missing bytes of its last
+        #: page as zeros, and a message there as if whole.
+        self.cut = cut_short(source.read(0, _HEADER_BYTES), source.size, check_count=not self.unmerged)
         self.database = Database(path)
         try:
             self.topics = _topics(self.database)
@@ -58,7 +61,7 @@ class Db3File:
         if self.statistics is not None:
             result.message_count, result.start, result.end = self.statistics
         every = len(channels) == sum(isinstance(row, tuple) for row in self.topics)
-        _messages(self.database, channels, headers, result, progress, every_topic=every)
+        _messages(self.database, channels, headers, result, progress, every_topic=every, cut=self.cut)
         if self.unmerged:
             result.note_problem(
                 f"{self.unmerged} holds writes never merged into the database; they were not read"
@@ -86,7 +89,12 @@ def _topics(db: Database) -> list[TopicRow | str]:
         later = ", ".join(c if c in present else "''" for c in _LATER_COLUMNS)
         rows = db.rows(f"SELECT id, name, type, serialization_format, {later} FROM topics")
     except sqlite3.Error as e:
-        raise CorruptBagError(str(db.path), f"its topics table cannot be read: {e}") from None
+        with db.path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
+            found = salvage_topics(data)
+        if not found:
+            raise CorruptBagError(str(db.path), f"its topics table cannot be read: {e}") from None
+        damage = f"its topics table is damaged (sqlite: {e}): {len(found)} topics read from its intact pages"
+        return [damage, *found]
     topics: list[TopicRow | str] = []
     for topic_id, *texts in rows:
         if not isinstance(topic_id, int) or not 0 <= topic_id <= _MAX_TOPIC_ID:
@@ -161,6 +169,7 @@ def _messages(
     progress: ProgressCallback,
     *,
     every_topic: bool = False,
+    cut: str = "",
 ) -> None:
     """Add the wanted topics' messages, fetch after fetch in the table's order (decoded as they
     come, so they are never all held at once; ``MessageSet`` puts them in (record time, id) order);
@@ -169,13 +178,16 @@ def _messages(
     points after it. Rows of other types (sqlite stores any value in any column) are not messages:
     left out. Where ``every_topic`` of the topics table is wanted, the reader leaves out rows of
     other topic ids itself where it can (``Database.skips_topics``). Without a window the rows are
-    read from the table's pages where the extension can (``Database.pages``), else through sqlite."""
+    read from the table's pages where the extension can (``Database.pages``), else through sqlite. A file
+    ``cut`` short is read from its whole pages only."""
     if not channels:
         return
     path = db.path
     size = path.stat().st_size
-    lookup = np.zeros(max(channels) + 1, np.int32)  # topic id -> channel
-    lookup[list(channels)] = list(channels.values())
+    lookup = lookup_of(channels)
+    if cut:
+        _add_salvaged(path, channels, headers, lookup, result, cut, size)
+        return
     ids = ",".join(str(int(i)) for i in channels)
     headed = ",".join(str(int(i)) for i in headers)
     data = (
@@ -211,9 +223,54 @@ def _messages(
         _add(db.messages(query, _FETCH, _FETCH_BYTES, list(channels)), lookup, result, size, progress)
     except sqlite3.Error as e:  # start again from the pages, forgetting what the query gave
         result.messages = result.messages.emptied()
-        topic_ids, times, salvaged = zip(*_salvage(path, channels, result, str(e)), strict=True)
-        _unpack_if_compressed(salvaged[0], result, size)
-        result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(times)), salvaged)
+        _add_salvaged(path, channels, headers, lookup, result, f"sqlite: {e}", size)
+
+
+def lookup_of(channels: dict[int, int]) -> Int32Array:
+    """Topic id -> MessageSet channel, as an array to index."""
+    lookup = np.zeros(max(channels) + 1, np.int32)
+    lookup[list(channels)] = list(channels.values())
+    return lookup
+
+
+def _add_salvaged(
+    path: Path,
+    channels: dict[int, int],
+    headers: set[int],
+    lookup: Int32Array,
+    result: FileScan,
+    damage: str,
+    size: int,
+) -> None:
+    """The messages of the file's whole pages into ``result`` (of ``headers`` topics, their headers' bytes),
+    ``damage`` said as why they were read so."""
+    topic_ids, times, salvaged = zip(*_salvage(path, channels, headers, result, damage), strict=True)
+    _unpack_if_compressed(salvaged[0], result, size)
+    result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(times)), salvaged)
+
+
+#: The bytes of an SQLite file's header that say its page size and count.
+_HEADER_BYTES = 100
+
+
+def cut_short(header: bytes, size: int, *, check_count: bool = True) -> str:
+    """What says an SQLite file of ``size`` bytes beginning with ``header`` was cut short: it ends inside a
+    page, or (``check_count``: no -wal file beside it may hold the rest) before the pages its header counts
+    (https://www.sqlite.org/fileformat2.html: the page size a big-endian u16 at 16, 1 meaning 65536; the
+    page count a u32 at 28, valid while the u32 at 92 equals the change counter at 24); "" where nothing does."""
+    if len(header) < _HEADER_BYTES:
+        return ""
+    page_size = int.from_bytes(header[16:18], "big")
+    page_size = 65536 if page_size == 1 else page_size
+    if page_size < 512 or page_size & (page_size - 1):  # not a page size: the header says nothing
+        return ""
+    pages = int.from_bytes(header[28:32], "big")
+    counted = check_count and pages and header[92:96] == header[24:28]
+    if size % page_size:
+        return f"cut short: it ends {size % page_size} bytes into a page of {page_size}"
+    if counted and size < pages * page_size:
+        return f"cut short: {size // page_size} of its {pages} pages"
+    return ""
 
 
 def _add(
@@ -231,20 +288,22 @@ def _add(
         span = result.end - result.start  # progress estimated by record time
         progress(int(size * (latest - result.start) / span) if span > 0 else 0, size)
         del fetched, payloads  # let go: the next fetch fills the same bytes again
+        if result.messages.full:  # the first headers of each topic alone were asked for, and are there
+            return
 
 
-def _salvage(path: Path, channels: dict[int, int], result: FileScan, error: str) -> list[Row]:
+def _salvage(path: Path, channels: dict[int, int], headers: set[int], result: FileScan, damage: str) -> list[Row]:
     with path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
-        found = salvage(data, channels)
+        found = salvage(data, channels, headers, HEADER_BYTES)
     rows = found.rows
     result.windowed = False
     if not rows:
-        raise CorruptBagError(str(path), f"no message could be read (sqlite: {error})")
+        raise CorruptBagError(str(path), f"no message could be read ({damage})")
     if not result.message_count:  # the statistics could not be read either
         result.message_count, result.start, result.end = found.count, found.start, found.end
     lost = f", {found.lost} more lost their data" if found.lost else ""
     result.note_problem(
-        f"the database is damaged (sqlite: {error}): read the {len(rows)} transform messages of its intact pages"
+        f"the database is damaged ({damage}): read the {len(rows)} transform messages of its intact pages"
         f"{lost}; those in missing or damaged pages are lost"
     )
     return rows

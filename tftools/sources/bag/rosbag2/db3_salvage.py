@@ -20,6 +20,7 @@ import struct
 from collections.abc import Collection
 
 from tftools.sources.bag.damage import DamageError
+from tftools.sources.bag.formats import ZSTD_MAGIC
 
 Bytes = bytes | mmap.mmap
 Row = tuple[int, int, bytes]  # topic id, record time, payload
@@ -47,10 +48,11 @@ class Salvaged:
         self.lost = lost
 
 
-def salvage(data: Bytes, topic_ids: Collection[int]) -> Salvaged:
+def salvage(data: Bytes, topic_ids: Collection[int], headed: Collection[int] = (), header_bytes: int = 0) -> Salvaged:
     """Every messages record in the whole leaf pages of the database image ``data``, with the
-    payloads of those of ``topic_ids``. Reads no byte outside ``data``, follows no overflow chain
-    round a loop, and in all no more overflow pages than the file holds (however many records
+    payloads of those of ``topic_ids`` (of ``headed`` ones, read for their header, the first ``header_bytes``
+    but where compressed, as sqlite hands them over). Reads no byte outside ``data``, follows no overflow
+    chain round a loop, and in all no more overflow pages than the file holds (however many records
     claim the same ones)."""
     pages = _Pages.of(data)
     if pages is None:
@@ -68,11 +70,37 @@ def salvage(data: Bytes, topic_ids: Collection[int]) -> Salvaged:
             if message is not None:
                 rowid, topic_id, time, payload = message
                 times[rowid] = time
+                if payload is not None and topic_id in headed and payload[:4] != ZSTD_MAGIC:
+                    payload = payload[:header_bytes]  # not a camera's image held whole (memory)
                 if payload is not None:
                     wanted[rowid] = (topic_id, time, payload)
     rows = [wanted[rowid] for rowid in sorted(wanted, key=lambda rowid: (wanted[rowid][1], rowid))]
     first, last = (min(times.values()), max(times.values())) if times else (0, 0)
     return Salvaged(rows, len(times), first, last, lost)
+
+
+def salvage_topics(data: Bytes) -> list[tuple[int, str, str, str, str, str]]:
+    """The rows of rosbag2's topics table in the whole leaf pages of the database image ``data``: (id, name,
+    type, serialization format, offered QoS profiles, type hash), by id. A topics record is its id as rowid,
+    then four texts, or five (Iron on); it is told from message_definitions' (as many texts) by its name,
+    which begins with a slash, where a type does not."""
+    pages = _Pages.of(data)
+    found: dict[int, tuple[int, str, str, str, str, str]] = {}
+    if pages is None:
+        return []
+    for number in range(1, pages.count + 1):
+        for cell in pages.leaf_cells(number):
+            try:
+                row = pages.texts(cell)
+            except DamageError:
+                continue
+            if row is None:
+                continue
+            rowid, texts = row
+            if len(texts) in (4, 5) and texts[0].startswith("/") and "/" in texts[1] and texts[2]:
+                name, kind, encoding, qos = texts[:4]
+                found.setdefault(rowid, (rowid, name, kind, encoding, qos, texts[4] if len(texts) == 5 else ""))
+    return [found[rowid] for rowid in sorted(found)]
 
 
 _MALFORMED = "bytes that do not follow the file format"
@@ -112,19 +140,7 @@ class _Pages:
     def message(self, cell: int, topic_ids: Collection[int]) -> tuple[int, int, int, bytes | None] | None:
         """(id, topic id, record time, payload) of the messages record at ``cell``, the payload only
         for ``topic_ids``; None for other tables' records."""
-        page_end = cell - cell % self.page_size + self.usable
-        size, at = _varint(self.data, cell, page_end)
-        rowid, at = _varint(self.data, at, page_end)
-        local = self._local_size(size)
-        spills = local < size
-        if at + local + 4 * spills > page_end or size > len(self.data):
-            raise DamageError(_MALFORMED)
-        record = self.data[at : at + local]
-        header_size, head = _varint(record, 0, len(record))
-        types: list[int] = []
-        while head < header_size and len(types) < 5:
-            serial, head = _varint(record, head, header_size)
-            types.append(serial)
+        size, rowid, at, record, header_size, _, types = self._record(cell, 5)
         integers = all(t in _INT_SIZES or t in _INT_CONSTANTS for t in types[1:3])
         if types[:1] != [0] or len(types) != 4 or not integers or types[3] < 12 or types[3] % 2:  # a blob: even, >= 12
             return None
@@ -135,8 +151,46 @@ class _Pages:
         rowid -= (1 << 64) * (rowid >> 63)
         if topic_id not in topic_ids:
             return rowid, topic_id, time, None
-        rest = self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local) if spills else b""
-        return rowid, topic_id, time, record[head:] + rest
+        return rowid, topic_id, time, record[head:] + self._spilled(at, len(record), size)
+
+    def texts(self, cell: int) -> tuple[int, list[str]] | None:
+        """(rowid, its texts) of a record at ``cell`` that is its rowid (a NULL) and texts alone; None for
+        others. Its overflow pages are followed (a topic's QoS profiles may spill)."""
+        size, rowid, at, record, header_size, head, types = self._record(cell, 7)
+        if types[:1] != [0] or head != header_size or not all(t >= 13 and t % 2 for t in types[1:]):
+            return None
+        whole = record + self._spilled(at, len(record), size)
+        texts, at = [], header_size
+        for serial in types[1:]:
+            length = (serial - 13) // 2
+            if at + length > len(whole):
+                raise DamageError(_MALFORMED)
+            texts.append(whole[at : at + length].decode("utf-8", "replace"))
+            at += length
+        return rowid, texts
+
+    def _record(self, cell: int, most: int) -> tuple[int, int, int, bytes, int, int, list[int]]:
+        """The table leaf cell at ``cell``: its payload's size, its rowid, where its payload starts, the bytes of
+        it in the cell, and of its record header the size, how far ``most`` serial types reach, and those types;
+        ``DamageError`` where the cell does not fit its page."""
+        page_end = cell - cell % self.page_size + self.usable
+        size, at = _varint(self.data, cell, page_end)
+        rowid, at = _varint(self.data, at, page_end)
+        local = self._local_size(size)
+        if at + local + 4 * (local < size) > page_end or size > len(self.data):
+            raise DamageError(_MALFORMED)
+        record = bytes(self.data[at : at + local])  # an mmap slice is bytes already: not copied again
+        header_size, head = _varint(record, 0, len(record))
+        types: list[int] = []
+        while head < header_size and len(types) < most:
+            serial, head = _varint(record, head, header_size)
+            types.append(serial)
+        return size, rowid, at, record, header_size, head, types
+
+    def _spilled(self, at: int, local: int, size: int) -> bytes:
+        """The bytes of a payload of ``size`` starting at ``at`` past the ``local`` ones in its cell: from its
+        overflow pages."""
+        return self._overflow(_U32.unpack_from(self.data, at + local)[0], size - local) if local < size else b""
 
     def _local_size(self, size: int) -> int:
         """The bytes of a table leaf cell's ``size``-byte payload kept in the cell itself."""
