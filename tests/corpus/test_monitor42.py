@@ -57,7 +57,8 @@ def test_a_publisher_s_delay_times_its_re_sent_transforms(tmp_path: Path, tfx: T
 def test_gazebo_s_re_sent_drone_pose_is_timed_whole(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
     """The real drone bag: /gazebo_connect's 2810 messages were 1.460 ms late on average (every transform's record
     time minus stamp, read off its 1 ms record clock: rosbags over the bytes gives 0.00146014), 26 ms at most;
-    monitor said 1.1 ms, the 574 tf2 stored. Its edges keep their stored samples' figures."""
+    monitor said 1.1 ms, the 574 tf2 stored. The same replayed (``--play``); its edges keep their stored samples'
+    figures."""
     report = _monitor(tfx, corpus(BY_ID[DRONE]))
     gazebo = _publisher(report, "/gazebo_connect")
     assert gazebo["messages"] == 2810
@@ -66,6 +67,9 @@ def test_gazebo_s_re_sent_drone_pose_is_timed_whole(corpus: Corpus, tfx: Tfx) ->
     edges = {e["child"]: e for e in report["edges"] if not e["static"]}
     assert {child: e["count"] for child, e in edges.items()} == {"drone/base_link": 287, "base_link": 287}
     assert all(e["delay_mean_s"] < 0.0012 for e in edges.values())
+    played = tfx("monitor", "-b", corpus(BY_ID[DRONE]), "--play", "--rate", "10", "--format", "json").stdout
+    replayed = _publisher(json.loads(played.strip().splitlines()[-1]), "/gazebo_connect")  # its last table: all of it
+    assert (replayed["messages"], replayed["delay_mean_s"]) == (2810, gazebo["delay_mean_s"])
     text = tfx("monitor", "-b", corpus(BY_ID[DRONE])).stdout
     (row,) = [line for line in text.splitlines() if "/gazebo_connect " in line and "2810" in line]
     assert row.split()[1:5] == ["2810", "2020.86", "0.0015", "0.0260"]
