@@ -55,7 +55,15 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
     result = tfx("monitor", "map", "gripper", "-b", SAMPLE_BAGS["mcap"], "-f", "json")
     assert result.code == 0, result.stderr
     doc = json.loads(result.stdout)
-    assert set(doc) == {"window", "edges", "authorities", "chain", "delays_unavailable", "delays_other_clock"}
+    assert set(doc) == {
+        "window",
+        "edges",
+        "authorities",
+        "publishers_named",
+        "chain",
+        "delays_unavailable",
+        "delays_other_clock",
+    }
     assert doc["delays_unavailable"] is None  # delays are measured: the sample robot's tf is on its record clock
     assert doc["delays_other_clock"] is None  # and no frame is stamped on another clock
     for edge in doc["edges"]:
@@ -497,3 +505,19 @@ def test_an_edge_ros1s_tf2_holds_static_has_no_delay_whole_or_replayed(tfx: Tfx,
         assert (edge["delay_mean_s"], edge["delay_max_s"]) == (None, None), edge
         publishers = {a["authority"]: a for a in report["authorities"]}
         assert publishers["/laser_to_base"]["delay_mean_s"] == pytest.approx(0.020, abs=1e-6)
+
+
+@pytest.mark.parametrize("sample", SAMPLES)
+def test_a_recording_that_names_no_publisher_shows_its_topics_as_topics(tfx: Tfx, sample: str) -> None:
+    """A ROS 2 bag names no publisher: monitor's "Node" column held /tf and /tf_static, which a ROS 2 user read as
+    node names (monitor42's note, on the Webots e-puck). The columns say topic there, with a line saying why, and
+    the JSON's ``publishers_named`` says which; a ROS 1 bag's nodes stay nodes. Live and replayed alike."""
+    named = sample == "ros1"
+    doc = json.loads(tfx("monitor", "-b", SAMPLE_BAGS[sample], "-f", "json").stdout)
+    assert doc["publishers_named"] is named
+    assert ({a["authority"] for a in doc["authorities"]} == {"/tf", "/tf_static"}) is not named
+    text = tfx("monitor", "-b", SAMPLE_BAGS[sample]).stdout
+    assert ("Topic" in text and "names no publisher" in text) is not named, text
+    assert ("Node" in text and "names no publisher" not in text) is named, text
+    played = tfx("monitor", "-b", SAMPLE_BAGS[sample], "--play", "--rate", "500", "-f", "json").stdout
+    assert json.loads(played.splitlines()[-1])["publishers_named"] is named

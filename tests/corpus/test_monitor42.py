@@ -73,3 +73,20 @@ def test_gazebo_s_re_sent_drone_pose_is_timed_whole(corpus: Corpus, tfx: Tfx) ->
     text = tfx("monitor", "-b", corpus(BY_ID[DRONE])).stdout
     (row,) = [line for line in text.splitlines() if "/gazebo_connect " in line and "2810" in line]
     assert row.split()[1:5] == ["2810", "2020.86", "0.0015", "0.0260"]
+
+
+#: Webots' e-puck (ROS 2, .db3): /tf from the diff-drive controller and the robot's own state publisher, /tf_static.
+EPUCK = "ros2-webots-epuck-resends-2025-db3"
+
+
+def test_a_ros2_bag_s_topics_are_not_shown_as_nodes(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The e-puck's rosbag2 names no publisher (its metadata.yaml gives topics and QoS only): monitor's "Node"
+    column held /tf and /tf_static, read by a ROS 2 user as node names (monitor42's note). They are said as topics,
+    with why, and the JSON says ``publishers_named: false``."""
+    report = _monitor(tfx, corpus(BY_ID[EPUCK]))
+    assert report["publishers_named"] is False
+    assert {a["authority"] for a in report["authorities"]} == {"/tf", "/tf_static"}
+    text = tfx("monitor", "-b", corpus(BY_ID[EPUCK])).stdout
+    assert "The recording names no publisher (a ROS 2 bag records none" in " ".join(text.split())
+    assert "Topic" in text and "Node" not in text
+    assert _monitor(tfx, corpus(BY_ID[DRONE]))["publishers_named"] is True

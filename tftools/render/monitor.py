@@ -83,9 +83,10 @@ def _edge_cells(e: EdgeStats, other_clock: bool) -> tuple[Text, Text, Text, list
     return Text(printable(e.parent)), Text(printable(e.child), style="bold"), by, figures
 
 
-def _edges(edges: Sequence[EdgeStats], other_clock: Sequence[str]) -> Fitted:
+def _edges(edges: Sequence[EdgeStats], other_clock: Sequence[str], unnamed: bool = False) -> Fitted:
+    """The edges' table; ``unnamed``: their publishers are the topics they came on (``MonitorReport.unnamed``)."""
     numbers = ("Samples", _RATE, "Jitter (s)", "Largest gap (s)", _DELAY_MEAN, _DELAY_MAX)
-    table = _table("Frames:", ("Parent", "Frame", "published by"), numbers, ())
+    table = _table("Frames:", ("Parent", "Frame", "published on" if unnamed else "published by"), numbers, ())
     table.caption, table.caption_justify, table.caption_style = JITTER, "left", "dim"
     rows = []
     for e in edges:
@@ -93,14 +94,27 @@ def _edges(edges: Sequence[EdgeStats], other_clock: Sequence[str]) -> Fitted:
         table.add_row(parent, child, by, *figures)
         publishers = [Text(f"{a}," if k < len(e.authorities) - 1 else a, style=by.style) for k, a in enumerate(
             printable(a) for a in e.authorities)] or [by]  # fmt: skip
-        rows.append(Row(figures, [Text.assemble(parent, " -> ", child), Text("by", style="dim"), *publishers]))
+        by_word = Text("on" if unnamed else "by", style="dim")
+        rows.append(Row(figures, [Text.assemble(parent, " -> ", child), by_word, *publishers]))
     headers = ("Samples", "Rate", "Jitter", "Gap", "Delay", "Max")
-    return Fitted(table, Lines("Frames:", headers, "Parent -> Frame by publishers", rows, KEY))
+    said = "Parent -> Frame on topics" if unnamed else "Parent -> Frame by publishers"
+    return Fitted(table, Lines("Frames:", headers, said, rows, KEY))
 
 
-def _authorities(authorities: list[AuthorityStats]) -> Fitted:
+#: Under the broadcasters of a recording that names no publisher (``MonitorReport.unnamed``): what a row is.
+UNNAMED = (
+    "The recording names no publisher (a ROS 2 bag records none; nor does a ROS 1 bag without callerids): each "
+    "row is a topic's messages, of however many nodes sent on it (tfx wtf tells publishers apart where it can)"
+)
+
+
+def _authorities(authorities: list[AuthorityStats], unnamed: bool = False) -> Fitted:
+    """The publishers' table; ``unnamed``: they are the topics the transforms came on, said so."""
     numbers = ("Messages", _MESSAGE_RATE, _DELAY_MEAN, _DELAY_MAX)
-    table = _table("All Broadcasters:", ("Node",), numbers, ("Frames",))
+    who = "Topic" if unnamed else "Node"
+    table = _table("All Broadcasters:", (who,), numbers, ("Frames",))
+    if unnamed:
+        table.caption, table.caption_justify, table.caption_style = UNNAMED, "left", "dim"
     rows = []
     for a in authorities:
         node = Text(printable(a.authority) or "?", style="magenta")
@@ -114,7 +128,7 @@ def _authorities(authorities: list[AuthorityStats]) -> Fitted:
         frames = [Text(f"{c}," if k < len(children) - 1 else c, style="dim") for k, c in enumerate(children)]
         rows.append(Row(figures, [Text.assemble(node, ":"), *frames]))
     headers = ("Messages", "Msgs/s", "Delay", "Max")
-    return Fitted(table, Lines("All Broadcasters:", headers, "Node: frames", rows))
+    return Fitted(table, Lines("All Broadcasters:", headers, f"{who}: frames", rows, UNNAMED if unnamed else ""))
 
 
 def _chain_lines(chain: ChainStats, other_clock: Sequence[str]) -> Text:
@@ -178,11 +192,11 @@ def renderable(
         edges = report.edges
     parts += [
         Text(""),
-        _edges(edges, report.other_clock),
+        _edges(edges, report.other_clock, report.unnamed),
         *_silences(edges),
         *_sightings(edges),
         Text(""),
-        _authorities(report.authorities),
+        _authorities(report.authorities, report.unnamed),
         *_partly_timed(report.authorities),
     ]
     return Group(*parts)
@@ -295,6 +309,7 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
         },
         "edges": [_edge_dict(e, report.other_clock) for e in report.edges],
         "authorities": [_authority_dict(a) for a in report.authorities],
+        "publishers_named": not report.unnamed,  # false: each authority is the topic its transforms came on
         "delays_unavailable": report.delays_unavailable or None,  # why delays are null, where they all are
         "delays_other_clock": report.other_clock_why or None,  # why those of frames on another clock are null
     }

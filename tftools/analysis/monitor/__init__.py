@@ -23,6 +23,7 @@ from tftools.analysis.edges import (
     edge_stats,
     sorted_unique,
 )
+from tftools.analysis.expected import publishers_named
 from tftools.analysis.times import TimeSpec, played_range, resolve_range
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
@@ -69,6 +70,9 @@ class MonitorReport:
     delays_unavailable: str = ""  # why the delays are not shown (``Timeline.delays_unavailable``), "" if they are
     other_clock: tuple[str, ...] = ()  # the frames stamped on another clock than their arrival's (no delay)
     other_clock_why: str = ""  # why theirs are not shown (``Timeline.other_clock_delays``), "" if none is
+    #: The recording names no publishers (a ROS 2 bag; a ROS 1 bag without callerids): each authority is the topic
+    #: its transforms came on, not a node.
+    unnamed: bool = False
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -91,9 +95,10 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     first, last = monitored_window(recording, query)
     buffer, timeline = recording.buffer, recording.timeline
     window = TimeWindow(first, last, by_record_time=True, timeline=timeline, until=timeline.record_end)
-    return monitor_buffer(
+    report = monitor_buffer(
         buffer, query.target, query.source, window, unstored=recording.refused, sent=recording.contents.sent
     )
+    return dataclasses.replace(report, unnamed=not publishers_named(recording))
 
 
 def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | None, int | None]:
@@ -274,6 +279,8 @@ class LiveMonitor:
         self.origin: int | None = timeline.origin if timeline is not None else None
         # Keep a little more than the window: samples that arrive late still fall inside it.
         self.buffer = Buffer(cache_time=window + DEFAULT_CACHE_TIME, clock=clock, semantics=semantics)
+        #: A replayed recording names no publishers (``MonitorReport.unnamed``): set by whoever feeds it.
+        self.unnamed = False
         #: The rows tf2 refused or took again without storing them (ROS 2: an identical sample), as
         #: ``Recording.refused`` holds them: messages that arrived all the same.
         self.unstored: list[TransformBatch] = []
@@ -357,9 +364,10 @@ class LiveMonitor:
             unstored = concat_batches(kept) if kept else None
             window = TimeWindow(start, now, by_record_time=True, timeline=timeline)
             try:
-                return monitor_buffer(self.buffer, target, source, window, unstored=unstored, sent=self.sent)
+                report = monitor_buffer(self.buffer, target, source, window, unstored=unstored, sent=self.sent)
             except TransformError:  # the chain is not connected (yet): show the rest
-                return monitor_buffer(self.buffer, window=window, unstored=unstored, sent=self.sent)
+                report = monitor_buffer(self.buffer, window=window, unstored=unstored, sent=self.sent)
+            return dataclasses.replace(report, unnamed=self.unnamed)
 
 
 #: The most tf messages a ``LiveMonitor`` holds unjoined between two reports before it forgets those older than
@@ -449,12 +457,15 @@ def monitor_stream(
     from tftools.sources.replay import Replay, follow
     from tftools.sources.stream import StreamedRecording
 
+    unnamed = False
     if isinstance(feed, StreamedRecording):
+        unnamed = not any(f.names_publishers for f in feed.contents.files)
         first, last = played_window(feed, query)
         timeline, semantics = feed.timeline, feed.semantics
         feed = feed.replay(rate=speed, start=first, end=last)
 
     live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics)
+    live_monitor.unnamed = unnamed
     if isinstance(feed, Replay | LiveSource):
         feed.on_sent = live_monitor.add_sent
     on_batch = (
