@@ -144,8 +144,8 @@ def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) 
     static edge's value is: a wheel held still in one recording and turning in the other moved by as far as its
     origins are apart; a simulator's laser held on /tf at 50 Hz as far from the real robot's static mount."""
     (t1, q1), (t2, q2) = _fixed(before), _fixed(after)
-    mm = round(1000.0 * math.dist(t1, t2), 6) if t1 is not None and t2 is not None else 0.0
-    deg = round(rotation_angle_deg(q1, q2), 6) if q1 is not None and q2 is not None else 0.0
+    mm = _mm_apart(t1, t2) if t1 is not None and t2 is not None else 0.0
+    deg = _deg_apart(q1, q2) if q1 is not None and q2 is not None else 0.0
     if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
         return [Difference(Change.moved, before.frame, before, after, translation_mm=mm, rotation_deg=deg)]
     return []
@@ -184,9 +184,16 @@ def _moved(before: FrameShape, after: FrameShape) -> tuple[float, float]:
 
 
 def _apart(t1: Vec3, q1: Quat, t2: Vec3, q2: Quat) -> tuple[float, float]:
-    mm = 1000.0 * math.dist(t1, t2)
-    # To a nanometre and a micro-degree: 0.122 - 0.121 is 1.0000000000000009 mm in floats, beyond a 1 mm tolerance.
-    return round(mm, 6), round(rotation_angle_deg(q1, q2), 6)
+    return _mm_apart(t1, t2), _deg_apart(q1, q2)
+
+
+# To a nanometre and a micro-degree: 0.122 - 0.121 is 1.0000000000000009 mm in floats, beyond a 1 mm tolerance.
+def _mm_apart(t1: Vec3, t2: Vec3) -> float:
+    return round(1000.0 * math.dist(t1, t2), 6)
+
+
+def _deg_apart(q1: Quat, q2: Quat) -> float:
+    return round(rotation_angle_deg(q1, q2), 6)
 
 
 def _same_values(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> bool:
@@ -243,8 +250,9 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"in {a} ({_sent(before)}), {_value(after.held or after)} in {b} ({_sent(after)})"
         )
     if d.change is Change.moved and not (before.static and after.static):
-        fixed = [(f"{d.translation_mm:.1f} mm", "translation")] if _fixed(before)[0] and _fixed(after)[0] else []
-        fixed += [(f"{d.rotation_deg:.2f}°", "rotation")] if _fixed(before)[1] and _fixed(after)[1] else []
+        (t1, q1), (t2, q2) = _fixed(before), _fixed(after)
+        fixed = [(f"{d.translation_mm:.1f} mm", "translation")] if t1 and t2 else []
+        fixed += [(f"{d.rotation_deg:.2f}°", "rotation")] if q1 and q2 else []
         on_tf = "" if before.static or after.static else " (on /tf)"
         return (
             f"{edge}{on_tf} moved by {' and '.join(f for f, _ in fixed)} (its {' and '.join(p for _, p in fixed)}, "
