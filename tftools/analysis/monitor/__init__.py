@@ -268,9 +268,11 @@ class LiveMonitor:
         window: int = DEFAULT_CACHE_TIME,
         timeline: Timeline | None = None,
         semantics: Semantics = "ros1",
+        unnamed: bool = False,
     ) -> None:
         """``timeline``: a replayed recording's (``Timeline.played``); none for a live system, whose
-        receive times are read off ``clock`` (as coarse as its /clock under use_sim_time)."""
+        receive times are read off ``clock`` (as coarse as its /clock under use_sim_time). ``unnamed``: a replayed
+        recording names no publishers (``MonitorReport.unnamed``)."""
         self.window = window
         self.clock = clock
         self.timeline = timeline
@@ -279,8 +281,7 @@ class LiveMonitor:
         self.origin: int | None = timeline.origin if timeline is not None else None
         # Keep a little more than the window: samples that arrive late still fall inside it.
         self.buffer = Buffer(cache_time=window + DEFAULT_CACHE_TIME, clock=clock, semantics=semantics)
-        #: A replayed recording names no publishers (``MonitorReport.unnamed``): set by whoever feeds it.
-        self.unnamed = False
+        self.unnamed = unnamed
         #: The rows tf2 refused or took again without storing them (ROS 2: an identical sample), as
         #: ``Recording.refused`` holds them: messages that arrived all the same.
         self.unstored: list[TransformBatch] = []
@@ -464,8 +465,7 @@ def monitor_stream(
         timeline, semantics = feed.timeline, feed.semantics
         feed = feed.replay(rate=speed, start=first, end=last)
 
-    live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics)
-    live_monitor.unnamed = unnamed
+    live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics, unnamed)
     if isinstance(feed, Replay | LiveSource):
         feed.on_sent = live_monitor.add_sent
     on_batch = (
