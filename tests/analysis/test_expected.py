@@ -456,3 +456,42 @@ def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, 
         f"x{SHOWN}, x{SHOWN + 1}, x{SHOWN + 2}, x{SHOWN + 3}, x{SHOWN + 4}, and {40 - SHOWN - 5} others"
     )
     assert last.severity is Severity.error and last.frames == tuple(f"x{SHOWN + k}" for k in range(5))
+
+
+def _jittered(y: float, noise: float) -> Callable[[int], list[Transform]]:
+    """A wheel held at (0, y, 0) whose every sample differs from the last at float rounding (``noise`` m and rad)."""
+    return lambda stamp: [
+        Transform.from_rpy(
+            (0.0, y + noise * (stamp % 3), 0.0), (noise * (stamp % 5), math.pi, 0.0), stamp, "base_link", "wheel"
+        )
+    ]
+
+
+def test_a_held_edge_jittering_at_float_rounding_is_held_and_compared_whole() -> None:
+    """The UR5 of ros2-ur5-two-clocks-topic-tf-2023-db3: its arm's joints held still on /tf for the whole
+    recording, each sample apart from the first by 1e-15 m. Exact equality called them moving, so diff compared
+    their translation only ("turning by up to 0.00°") and missed their rotations, 115° apart from another UR5's.
+    Within ``figures.HELD_M`` and ``HELD_DEG`` a value is held; beyond, it moves."""
+    rounding = shape_of(recording(healthy(wheels=periodic("/rsp", 20, _jittered(0.265, 1e-12)))))
+    assert rounding.frames["wheel"].held is not None and rounding.frames["wheel"].motion is None
+    exact = shape_of(recording(healthy(wheels=periodic("/rsp", 20, _held_wheel(0.265)))))
+    assert compare(rounding, exact, Tolerances()) == []
+    creeping = shape_of(recording(healthy(wheels=periodic("/rsp", 20, _jittered(0.265, 1e-4)))))
+    assert creeping.frames["wheel"].held is None and creeping.frames["wheel"].motion is not None
+
+
+def test_a_static_re_published_with_tiny_noise_is_one_value() -> None:
+    """A static edge sent again on /tf_static with values apart at float rounding is one value (no "received 2
+    values", no reordering to tell), and to wtf no changing transform on /tf_static."""
+    first = statics()
+    noisy = dataclasses.replace(
+        statics(record=START + 5 * NS_PER_S),
+        transforms=[
+            dataclasses.replace(t, translation=(t.translation[0] + 1e-10, t.translation[1], t.translation[2] - 1e-10))
+            for t in first.transforms
+        ],
+    )
+    shape = shape_of(recording(healthy(statics=[first, noisy])))
+    assert shape.frames["laser"].static and shape.frames["laser"].received == ()
+    report = check(recording(healthy(statics=[first, noisy])), CheckQuery())
+    assert "dynamic_on_static" not in {f.code for f in report.findings}

@@ -14,7 +14,7 @@ from tftools.analysis.edges import publishers
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
-from tftools.core.figures import rate_of, record_span, time_base_of, time_bases
+from tftools.core.figures import held_groups, held_parts, rate_of, record_span, time_base_of, time_bases
 from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
 from tftools.core.rotation import Quat, Vec3, angle_between_many
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S
@@ -165,7 +165,7 @@ def held(hist: EdgeHistory) -> StaticValue | None:
     """A moving edge's one value, with how many samples from its latest parent carried it, where there are two
     or more and they never change; None otherwise (it moves, or was seen once)."""
     values = hist.values[hist.parents == hist.latest_parent]
-    if len(values) < 2 or not bool((values == values[0]).all()):
+    if len(values) < 2 or not all(held_parts(values)):
         return None
     translation, rotation = _value(values[0])
     return StaticValue(translation, rotation, None, len(values))
@@ -175,12 +175,11 @@ def motion(hist: EdgeHistory) -> Motion | None:
     """A moving edge's ``Motion`` over its samples from its latest parent; None where it holds still (``held``)
     or has fewer than two."""
     values = hist.values[hist.parents == hist.latest_parent]
-    if len(values) < 2 or bool((values == values[0]).all()):
+    fixed_t, fixed_q = held_parts(values)
+    if len(values) < 2 or (fixed_t and fixed_q):
         return None
     translations, rotations = values[:, :3], values[:, 3:]
     first_t, first_q = _value(values[0])
-    fixed_t = bool((translations == translations[0]).all())
-    fixed_q = bool((rotations == rotations[0]).all())
     spread = float(np.linalg.norm(translations - translations[0], axis=1).max())
     turn = float(angle_between_many(rotations, np.broadcast_to(rotations[0], rotations.shape)).max())
     return Motion(first_t if fixed_t else None, first_q if fixed_q else None, 1000.0 * spread, math.degrees(turn))
@@ -239,15 +238,17 @@ def _value(row: npt.NDArray[np.float64]) -> tuple[Vec3, Quat]:
 def _received(
     values: npt.NDArray[np.float64], sequence: Int64Array, record_times: Int64Array, start: int
 ) -> tuple[StaticValue, ...]:
-    """A static edge's different values in the order they first came (none where it had one value)."""
+    """A static edge's different values in the order they first came, each as it first came (none where it had
+    one value: values within ``figures.held_groups``' tolerances of one another are one)."""
     order = np.argsort(sequence, kind="stable")
-    distinct, first, times = np.unique(values[order], axis=0, return_index=True, return_counts=True)
-    if len(distinct) < 2:
+    group = held_groups(values[order])
+    kinds, first, times = np.unique(group, return_index=True, return_counts=True)
+    if len(kinds) < 2:
         return ()
     found = []
     for k in np.argsort(first, kind="stable").tolist():
         record = int(record_times[order[first[k]]])
-        translation, rotation = _value(distinct[k])
+        translation, rotation = _value(values[order[first[k]]])
         at_s = (record - start) / NS_PER_S if record > 0 else None
         found.append(StaticValue(translation, rotation, at_s, int(times[k])))
     return tuple(found)

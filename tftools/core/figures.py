@@ -602,3 +602,51 @@ def seconds(ns: FloatArray) -> FloatArray: ...
 def seconds(ns: float | FloatArray) -> float | FloatArray:
     """A figure (or figures) in ns, shown in seconds (NaN stays NaN)."""
     return ns / NS_PER_S
+
+
+#: How far a transform's values may wander and still be one value held (a fixed transform re-sent on /tf, a static
+#: re-published, a joint at rest): float rounding and noise of that order (1e-9 m, 1e-7°: a value through float32
+#: and back, a calibration re-published with noise in its last digits), never a motion. The one tolerance of
+#: "never changes" wherever an edge's values are compared with each other.
+HELD_M = 1e-6
+HELD_DEG = 1e-4
+
+
+def apart(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """How far each value of ``b`` is from the one of ``a`` (N x 7 each): metres, and degrees of rotation."""
+    with np.errstate(over="ignore"):  # values near 1e308 are apart by an infinity of metres
+        metres: FloatArray = np.linalg.norm(b[:, :3] - a[:, :3], axis=1)
+    return metres, np.degrees(angle_between_many(a[:, 3:], b[:, 3:]))
+
+
+def held_apart(a: FloatArray, b: FloatArray) -> tuple[BoolArray, BoolArray]:
+    """Whether each row of ``a`` (N x 7: translation, quaternion) is further than ``HELD_M`` from the one of ``b``
+    (the same shape, or one row) in translation, and further than ``HELD_DEG`` in rotation (q and -q are one)."""
+    metres, degrees = apart(a, np.broadcast_to(b, a.shape))
+    return metres > HELD_M, degrees > HELD_DEG
+
+
+def held_parts(values: FloatArray) -> tuple[bool, bool]:
+    """Whether every row of ``values`` (N x 7) holds the first one's translation, and its rotation (``held_apart``)."""
+    if not len(values):
+        return True, True
+    moved, turned = held_apart(values, values[:1])
+    return not bool(moved.any()), not bool(turned.any())
+
+
+def held_groups(values: FloatArray) -> IntpArray:
+    """Each row's value among the distinct ones of ``values`` (N x 7), numbered as they first come: a row within
+    the tolerances (``held_apart``) of an earlier value is that value, not another. Rows exactly alike are
+    told apart once (a static re-sent a thousand times with two values is two values to compare)."""
+    distinct, first, inverse = np.unique(values, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")
+    kind = np.full(len(distinct), -1, np.intp)
+    kinds = 0
+    for k in order.tolist():
+        if kind[k] >= 0:
+            continue
+        left = np.flatnonzero(kind < 0)
+        moved, turned = held_apart(distinct[left], distinct[k : k + 1])
+        kind[left[~(moved | turned)]] = kinds
+        kinds += 1
+    return kind[inverse.reshape(-1)]

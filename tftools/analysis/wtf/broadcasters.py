@@ -32,13 +32,13 @@ from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.figures import (
     Disagreement,
+    apart,
     largest_disagreement,
     median_ns,
     period,
     record_span,
     time_base_of,
 )
-from tftools.core.rotation import angle_between_many
 from tftools.core.time import NS_PER_S
 
 #: A sign must show in this many samples, and this share of them, to tell two broadcasters.
@@ -632,10 +632,3 @@ def _alternating(values: FloatArray, turns: bool = True) -> int:
             (out_deg > APART_DEG) & (back_deg > APART_DEG) & (round_deg < out_deg / 4) & (came_deg <= TURNING * out_deg)
         )
     return int(moved.sum())
-
-
-def apart(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """How far each value of ``b`` is from the one of ``a`` (N x 7 each): metres, and degrees of rotation."""
-    with np.errstate(over="ignore"):  # values near 1e308 are apart by an infinity of metres
-        metres: FloatArray = np.linalg.norm(b[:, :3] - a[:, :3], axis=1)
-    return metres, np.degrees(angle_between_many(a[:, 3:], b[:, 3:]))

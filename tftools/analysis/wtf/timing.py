@@ -15,7 +15,7 @@ from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
-from tftools.core.figures import Sightings, pauses, record_span, silence_limit, sustained_period
+from tftools.core.figures import Sightings, held_apart, pauses, record_span, silence_limit, sustained_period
 from tftools.core.figures import delays as delays_of
 from tftools.core.history import old_data
 from tftools.core.semantics import dialect
@@ -30,9 +30,6 @@ DELAY_SHARE = 0.05
 IRREGULAR = 0.5
 IRREGULAR_SHARE = 0.25
 IRREGULAR_MIN_INTERVALS = 20
-#: A stamp re-sent with values this close (m, and quaternion components) to its first repeats that value: a
-#: double computed again differs in its last bits (the SAIL ZED's re-sends, 7e-12 m apart), not in what it says.
-SAME_VALUE = 1e-9
 #: A rhythm is a cycle when this share of its intervals equals the one a cycle (2 to 4) later.
 CYCLIC_SHARE = 0.8
 #: Off intervals all in a row are said as one stretch (``_one_stretch``) from this many on.
@@ -550,7 +547,8 @@ def _values_of(rows: Rows, mine: IntpArray) -> Callable[[IntpArray], FloatArray]
 
 def _repeats(stamps: Int64Array, values: Callable[[IntpArray], FloatArray]) -> tuple[BoolArray, BoolArray]:
     """Which rows repeat an earlier row's stamp, and which of those repeat its values too (within
-    ``SAME_VALUE``: a value computed again, 7e-12 m off, as a ZED re-sends it, is no other value); ``values``
+    ``figures.held_apart``'s tolerances: a double computed again differs in its last bits, the SAIL ZED's
+    re-sends 7e-12 m apart, not in what it says); ``values``
     gives those of some rows: the repeats' and their first's alone are read (``same`` means nothing elsewhere)."""
     n = len(stamps)
     order = np.argsort(stamps, kind="stable")
@@ -564,7 +562,8 @@ def _repeats(stamps: Int64Array, values: Callable[[IntpArray], FloatArray]) -> t
     first = order[starts[again]]
     same = np.ones(n, bool)
     if len(which):
-        same[which] = (np.abs(values(which) - values(first)) <= SAME_VALUE).all(axis=1)
+        moved, turned = held_apart(values(which), values(first))
+        same[which] = ~(moved | turned)
     return repeat, same
 
 

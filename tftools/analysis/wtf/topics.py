@@ -10,13 +10,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import apart, listed_publishers
+from tftools.analysis.wtf.broadcasters import listed_publishers
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
 from tftools.analysis.wtf.static_senders import Sender, StaticSenders, static_senders
 from tftools.core.arrays import IntpArray
-from tftools.core.figures import rate_hz
+from tftools.core.figures import HELD_DEG, HELD_M, apart, held_groups, held_parts, rate_hz
 from tftools.core.time import NS_PER_S
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
@@ -91,13 +91,13 @@ def _mark_moving(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
     own samples change: two publishers that disagree (Stage's base_footprint -> base_link at z 0 beside
     robot_state_publisher's at 0.0102 m) move nothing. One edge's values held at a time, copied once."""
     values = rows.values[mine]
-    if (values == values[0]).all():
+    if all(held_parts(values)):
         return True
     authority = rows.authority[mine]
     publishers = np.unique(authority)
     for who in publishers:
         own = values if len(publishers) == 1 else values[authority == who]
-        if not (own == own[0]).all():
+        if not all(held_parts(own)):
             moving[mine[authority == who]] = True
     return False
 
@@ -154,10 +154,11 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
         if len(mine) < 2:  # one value never changes
             continue
         values = rows.values[mine]
-        changed = np.flatnonzero((values[1:] != values[:-1]).any(axis=1)) + 1
+        group = held_groups(values)
+        changed = np.flatnonzero(group[1:] != group[:-1]) + 1
         if not len(changed) or not _changes_its_own(rows, senders, mine):
             continue
-        distinct = len(np.unique(values, axis=0))
+        distinct = int(group.max()) + 1
         when = scene.arrival(mine[changed])
         who = scene.authorities_of(mine)
         evidence, hint = "", ""
@@ -190,11 +191,7 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
 
 def _changes_its_own(rows: Rows, senders: StaticSenders, mine: np.ndarray) -> bool:
     """Whether a publisher of the static edge ``mine`` sent it with more than one value."""
-    for _, theirs in split(mine, senders.sender[mine]):
-        values = rows.values[theirs]
-        if (values != values[0]).any():
-            return True
-    return False
+    return any(not all(held_parts(rows.values[theirs])) for _, theirs in split(mine, senders.sender[mine]))
 
 
 @dataclass(frozen=True)
@@ -229,7 +226,7 @@ def _static_shared(scene: Scene) -> list[StaticShared]:
         members.append(mine)
         values = rows.values[mine]
         metres, degrees = apart(values, np.broadcast_to(values[-1], values.shape))  # from the one tf2 keeps
-        if metres.max() > 0 or degrees.max() > 0:
+        if metres.max() > HELD_M or degrees.max() > HELD_DEG:
             differ.append((parent, child, float(metres.max()), float(degrees.max())))
         else:
             agree.append((parent, child))
