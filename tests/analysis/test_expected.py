@@ -37,6 +37,8 @@ from tftools.analysis.wtf import CHECKS
 from tftools.analysis.wtf.expectations import SHOWN
 from tftools.analysis.wtf.fleet import check
 from tftools.analysis.wtf.query import CheckQuery
+from tftools.analysis.wtf.thresholds import Thresholds
+from tftools.core.figures import STOP_FLOOR
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources.recording import read_recording
@@ -456,6 +458,27 @@ def test_many_differences_of_a_kind_are_said_a_few_then_counted(tmp_path: Path, 
         f"x{SHOWN}, x{SHOWN + 1}, x{SHOWN + 2}, x{SHOWN + 3}, x{SHOWN + 4}, and {40 - SHOWN - 5} others"
     )
     assert last.severity is Severity.error and last.frames == tuple(f"x{SHOWN + k}" for k in range(5))
+
+
+def test_an_edge_that_stopped_early_in_one_recording_only_is_said_once_with_its_figures() -> None:
+    """The CSCE 452 disc robot's simulator (corpus: world -> base_link sent for 0.5 s of 10.7 s in one run, to the
+    end in another): diff said nothing of it. An edge that stops (``figures.stopped``) in one recording and is sent
+    to the end in the other differs, once, with when it last arrived against its recording's length; not where
+    both stop, nor where a recording simply ends sooner (every edge sent to its end)."""
+    whole = shape_of(recording(healthy()))
+    stops = shape_of(recording(healthy(ekf=ekf(end=4.0), statics=[statics()], wheels=wheels())))
+    (d,) = compare(whole, stops, Tolerances())
+    assert (d.change, d.frame) == (Change.stopped, "base_link")
+    assert describe(d).startswith("odom -> base_link stopped early in B: its last sample (stamped 1700000003.980) ")
+    assert describe(d).endswith(
+        "arrived 4.0 s into B's 9.9 s, silent for its last 6.0 s; in A it was sent to the end (10.0 s of 10.0 s)"
+    ), describe(d)
+    (back,) = compare(stops, whole, Tolerances())
+    assert describe(back).startswith("odom -> base_link stopped early in A: ")
+    assert compare(stops, stops, Tolerances()) == []
+    shorter = shape_of(recording(healthy(amcl=amcl(end=4.0), ekf=ekf(end=4.0), wheels=wheels(end=4.0))))
+    assert not [d for d in compare(whole, shorter, Tolerances()) if d.change is Change.stopped]
+    assert Thresholds().stale_after * NS_PER_S == STOP_FLOOR  # a stop is the same to diff as to wtf's stale
 
 
 def _jittered(y: float, noise: float) -> Callable[[int], list[Transform]]:

@@ -74,9 +74,13 @@ def test_the_raspimouse_replay_is_two_clocks_at_20_hz_not_a_rate_of_39(
 ) -> None:
     """The raspimouse replayed with its own map -> odom beside a live gmapping: 2,114 samples on two clocks a week
     apart, ~20 Hz each, against the robot's own run at 20.0 Hz. diff said "map -> odom at 39.1 Hz in B, 20.0 Hz in A
-    (A 49% slower)" beside the clocks difference; the clocks difference alone now, with each clock's rate."""
+    (A 49% slower)" beside the clocks difference; the clocks difference alone now, with each clock's rate. And
+    (diff43) the replay's odom -> base_link stopped 2.5 s before the recording ended (its last /tf record 51.55 s
+    into 54.03 s, by rosbags' reader): that is said once, the live map -> odom went on."""
     code, found = _diff(tfx, corpus, RASPIMOUSE, RASPIMOUSE_REPLAY)
-    (clocks,) = found
+    clocks, stopped = found
+    assert (stopped["change"], stopped["frame"]) == ("stopped", "base_link")
+    assert "arrived 51.6 s into B's 54.0 s, silent for its last 2.5 s" in stopped["message"], stopped["message"]
     assert clocks["change"] == "clocks" and clocks["message"].startswith(
         "map -> odom is stamped on 2 clocks (clock 1 20.0 Hz, clock 2 20.0 Hz) in B, on one clock in A"
     ), clocks["message"]

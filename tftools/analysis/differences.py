@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from tftools.analysis.expected import FrameShape, StaticValue, Tolerances, TreeShape
 from tftools.core.rotation import Quat, Vec3, rpy_rebuilding
+from tftools.core.time import NS_PER_S
 
 
 class Change(str, enum.Enum):
@@ -22,6 +23,7 @@ class Change(str, enum.Enum):
     rate = "rate"  # a moving edge's rate, beyond the tolerance
     clocks = "clocks"  # a moving edge's stamps on more time bases in one, or from the epoch in one only
     publishers = "publishers"
+    stopped = "stopped"  # a moving edge that stopped before its recording ended in one, sent to the end in the other
 
 
 @dataclass(frozen=True)
@@ -74,6 +76,8 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
         counted = before.clocks is not None and after.clocks is not None and before.clocks != after.clocks
         if counted and not any(d.change is Change.clocks for d in found):
             found.append(Difference(Change.clocks, name, before, after))
+        if before.tail is not None and after.tail is not None and before.tail.stopped != after.tail.stopped:
+            found.append(Difference(Change.stopped, name, before, after))
     if not (before.static and after.static):
         found.extend(_fixed_parts(before, after, tolerances))
     known = before.publishers is not None and after.publishers is not None
@@ -277,6 +281,13 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         slower = b if now < was else a
         apart = rates_apart(was, now)
         return f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower){sums}"
+    if d.change is Change.stopped and before.tail is not None and after.tail is not None:
+        (early, tail), (other, sent) = sorted(((a, before.tail), (b, after.tail)), key=lambda side: not side[1].stopped)
+        return (
+            f"{edge} stopped early in {early}: its last sample (stamped {_stamp(tail.stamp)}) arrived "
+            f"{_s(tail.arrived)} into {early}'s {_s(tail.length)}, silent for its last {_s(tail.silent)}; in {other} "
+            f"it was sent to the end ({_s(sent.arrived)} of {_s(sent.length)})"
+        )
     if d.change is Change.clocks and _kinds_apart(before, after):
         return (
             f"{edge} is stamped on {_base(after)} in {b}, on {_base(before)} in {a}: "
@@ -291,6 +302,14 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             "recording replayed with its own tf beside live nodes; tfx wtf says which)"
         )
     return f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+
+
+def _s(ns: int) -> str:
+    return f"{ns / NS_PER_S:.1f} s"
+
+
+def _stamp(ns: int) -> str:
+    return f"{ns / NS_PER_S:.3f}"
 
 
 def _publishers(f: FrameShape) -> str:

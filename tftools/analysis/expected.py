@@ -14,7 +14,17 @@ from tftools.analysis.edges import publishers
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.arrays import Int64Array
 from tftools.core.buffer import Buffer
-from tftools.core.figures import held_groups, held_parts, rate_of, record_span, time_base_of, time_bases
+from tftools.core.figures import (
+    STOP_FLOOR,
+    held_groups,
+    held_parts,
+    rate_of,
+    record_span,
+    silence,
+    stopped,
+    time_base_of,
+    time_bases,
+)
 from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
 from tftools.core.rotation import Quat, Vec3, angle_between_many
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S
@@ -71,6 +81,23 @@ class Motion:
 
 
 @dataclass(frozen=True)
+class Tail:
+    """How a moving edge's samples end in its recording (its latest parent's, on the record clock): its last
+    sample's arrival (ns into the recording) and stamp (ns), the recording's length (ns), and whether it
+    stopped (``figures.stopped``: silent at the end longer than ``PERIODS`` periods and ``STOP_FLOOR``)."""
+
+    arrived: int
+    stamp: int
+    length: int
+    stopped: bool
+
+    @property
+    def silent(self) -> int:
+        """How long (ns) before the recording's end it last arrived."""
+        return max(self.length - self.arrived, 0)
+
+
+@dataclass(frozen=True)
 class FrameShape:
     """One frame: its parent (None for a root); a static edge's value, a moving edge's rate (None: any rate, as a
     tree file without ``rate_hz`` or a URDF expects; 0: unknown, fewer than two samples stamped apart);
@@ -107,6 +134,8 @@ class FrameShape:
     #: are on the record clock or one ticking as fast, 0.067 for a simulation at a fifteenth of real time
     #: recorded on the wall clock; None where not known (no record times, stamps on several clocks).
     pace: float | None = None
+    #: How a moving edge's samples end (``Tail``); None where not known (a tree file, a URDF, no record times).
+    tail: Tail | None = None
 
 
 @dataclass(frozen=True)
@@ -157,6 +186,7 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             rates=source_rates(buffer, moving, named) if moving is not None else (),
             epoch=_epoch(moving) if moving is not None else None,
             pace=_pace(moving) if moving is not None else None,
+            tail=_tail(moving, summary.rate_hz, recording) if moving is not None else None,
         )
     return TreeShape(frames, " + ".join(recording.paths))
 
@@ -220,6 +250,23 @@ def _pace(hist: EdgeHistory) -> float | None:
     if span <= 0 or time_bases(stamps, span) > 1:
         return None
     return float(stamps.max() - stamps.min()) / span
+
+
+def _tail(hist: EdgeHistory, rate: float, recording: Recording) -> Tail | None:
+    """How a moving edge's samples from its latest parent end in ``recording`` (``Tail``); None where their
+    arrivals or the recording's end are not known on one clock (``figures.silence``), or staleness cannot be
+    measured (``Timeline.available``: a simulation's rate on its slow clock against silences on the wall's)."""
+    if not recording.timeline.available:
+        return None
+    mine = hist.parents == hist.latest_parent
+    records = hist.record_times[mine]
+    last = int(np.argmax(records))
+    silent = silence(int(records[last]), recording.end)
+    if silent is None or recording.start <= 0:
+        return None
+    stamp = int(hist.stamps[mine][last])
+    length = recording.end - recording.start
+    return Tail(int(records[last]) - recording.start, stamp, length, stopped(silent, rate, STOP_FLOOR))
 
 
 def _on_tf_hz(hist: EdgeHistory) -> float:

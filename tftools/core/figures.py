@@ -391,10 +391,22 @@ def silence(last_arrival: int, end: int | None) -> int | None:
     return max(end - last_arrival, 0)
 
 
+#: A stream silent at least this long (ns; and ``PERIODS`` of its periods) before its recording ends has stopped,
+#: by default (``Thresholds.stale_after``'s default, which ``tfx wtf --stale-after`` changes): a recorder that
+#: stops some topics a little before others ended nothing.
+STOP_FLOOR = NS_PER_S
+
+
+def stopped(silent: int | None, rate: float, floor: int = 0) -> bool:
+    """Whether a stream at ``rate`` Hz silent for ``silent`` ns (``silence``) has stopped: silent longer than
+    ``silence_limit`` (at least ``floor``); not where either is unknown (None, no rate)."""
+    return silent is not None and rate > 0 and silent > silence_limit(rate, floor)
+
+
 def silence_in_words(silent: int | None, rate: float) -> str:
     """A stream's ``silence`` as a person reads it, where it is one (longer than ``PERIODS`` periods at ``rate``
     Hz, ``silence_limit``): "silent for the last 2.500 s"; "" where it is not or is unknown."""
-    if silent is None or not (rate > 0 and silent > silence_limit(rate)):
+    if silent is None or not stopped(silent, rate):
         return ""
     return f"silent for the last {silent / NS_PER_S:.3f} s"
 
