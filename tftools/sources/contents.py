@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
-from tftools.core.arrays import BoolArray, Int32Array, Int64Array
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches
 from tftools.core.frames import Names
 from tftools.values import record, value
@@ -100,9 +100,20 @@ class StampedMessages:
     #: read with its headers has its ties in rosbag play's order, so the buffer to place them in is that
     #: read's (``stamped_of(recording.contents.files)``), not one read apart without them.
     tf_before: Int64Array = field(default_factory=lambda: np.zeros(0, np.int64))
+    #: Of messages that state a transform beside their header (nav_msgs/Odometry: from the header's frame to
+    #: its child_frame_id), per message its child (an index into ``child_ids``, -1 where not read) and the
+    #: transform's value (N x 7: x y z qx qy qz qw, NaN where not read); empty for any other type.
+    child: Int32Array = field(default_factory=lambda: np.zeros(0, np.int32))
+    pose: FloatArray = field(default_factory=lambda: np.zeros((0, 7)))
+    child_ids: Sequence[str] = ()
 
     def __len__(self) -> int:
         return len(self.record_time)
+
+    @property
+    def states_transforms(self) -> bool:
+        """Whether each message states a transform (``child``, ``pose``): an Odometry's."""
+        return len(self.child) == len(self.record_time) > 0
 
     @property
     def ordered(self) -> bool:

@@ -3,11 +3,13 @@ as the codecs parse it, gathered per topic."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from itertools import groupby
 
 import numpy as np
 
+from tftools.core.arrays import Int64Array
 from tftools.core.frames import Names
 from tftools.sources.codecs.decoded import Header
 from tftools.sources.codecs.gather import first_and_inverse
@@ -84,7 +86,33 @@ def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
         stamp = np.concatenate([p.stamp for p in pieces])[order]
         ordered = all(p.ordered for p in pieces)
         before = np.concatenate([p.tf_before for p in pieces])[order] if ordered else np.zeros(0, np.int64)
-        merged.append(
-            StampedMessages(topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names, before)
+        stream = StampedMessages(
+            topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names, before
         )
+        if all(p.states_transforms or not len(p) for p in pieces) and any(p.states_transforms for p in pieces):
+            stream = _with_children(stream, pieces, order)
+        merged.append(stream)
     return merged
+
+
+def _with_children(stream: StampedMessages, pieces: Sequence[StampedMessages], order: Int64Array) -> StampedMessages:
+    """``stream`` with the transforms its ``pieces`` state (``StampedMessages.child``), in the same ``order``, each
+    child named once in the names of the children alone."""
+    names = Names()
+    children = []
+    for p in pieces:
+        table = np.array([names.intern(n) for n in p.child_ids] or [0], np.int32)
+        children.append(np.where(p.child >= 0, table[np.maximum(p.child, 0)], -1).astype(np.int32))
+    pose = np.concatenate([p.pose for p in pieces])[order]
+    child = np.concatenate(children)[order]
+    used = sorted(set(child[child >= 0].tolist()))
+    compact = Names()
+    renumber = np.full(max(len(names.names), 1), -1, np.int32)
+    for k in used:
+        renumber[k] = compact.intern(names.names[k])
+    return dataclasses.replace(
+        stream,
+        child=np.where(child >= 0, renumber[np.maximum(child, 0)], -1).astype(np.int32),
+        pose=pose,
+        child_ids=list(compact.names),
+    )

@@ -3,13 +3,14 @@ megabytes at a time."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tftools.core.arrays import BoolArray, Int32Array, Int64Array, UInt8Array
+from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
 from tftools.sources.bag.contents import RecordWindow, merged_clock
 from tftools.sources.bag.damage import DamageError
@@ -109,6 +110,8 @@ class MessageSet:
         self._failed: Failures = []
         self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
         self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
+        #: Of messages that state a transform beside their header (Odometry): message numbers, child frames, poses.
+        self._stated: list[tuple[Int64Array, Int32Array, FloatArray]] = []
         self._whole: list[tuple[Int64Array, list[object]]] = []  # message numbers, values
         #: The messages read whole (``Wanted.whole``), per topic in record order, once ``decode`` ran.
         self.whole: list[WholeMessages] = []
@@ -361,6 +364,8 @@ class MessageSet:
         elif isinstance(codec, HeaderCodec):
             headers = codec.decode(raw, starts, lengths, self._rows.frames)
             self._headers.append((ids[headers.message], headers.stamp, headers.frame))
+            if len(headers.child):
+                self._stated.append((ids[headers.message], headers.child, headers.pose))
             failures = headers.failures
         else:
             assert not isinstance(codec, CopyCodec)  # their messages are handed on, never grouped
@@ -431,14 +436,18 @@ class MessageSet:
         none = np.zeros(0, np.int64)
         ids, stamps, frames = _in_record_order(self._headers or [(none, none, none.astype(np.int32))], rank)
         topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
+        stated = _in_record_order(self._stated or [(none, none.astype(np.int32), np.zeros((0, 7)))], rank)
+        stated_topic = np.array([c.topic for c in self.channels], object)[channel_of[stated[0]]]
         streams = []
         for topic, type_name in dict((c.topic, c.codec.type_name) for c in headed).items():
             mine = topic_of == topic
             names = self._rows.frames.names
             before = rows_before(rank[ids[mine]])
-            streams.append(
-                StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names, before)
-            )
+            stream = StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names, before)
+            theirs = stated_topic == topic
+            if theirs.any():  # every message of the topic has its row, in the same record order
+                stream = dataclasses.replace(stream, child=stated[1][theirs], pose=stated[2][theirs], child_ids=names)
+            streams.append(stream)
         return streams
 
     def _thin_whole(self) -> None:

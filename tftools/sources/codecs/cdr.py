@@ -13,7 +13,7 @@ from functools import partial
 
 from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder, TransformEncoder
 from tftools.sources.codecs.stepped import SteppedDecoder
-from tftools.sources.codecs.wire import Wire, decode_times, encode_transforms, read_headers
+from tftools.sources.codecs.wire import Wire, decode_times, encode_transforms, read_headers, read_odometry
 
 WIRES = tuple(
     Wire(order, origin=4, align=align, seq=False, signed_sec=True, nul=True, exact=False, encapsulation=kind)
@@ -25,5 +25,7 @@ decode_tf: BulkDecoder = SteppedDecoder(WIRES)  # FrameTransforms too: the same 
 decode_frame_transform: BulkDecoder = SteppedDecoder(WIRES, counted=False)
 decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
 decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
+#: ``nav_msgs/Odometry``'s headers, each with its child_frame_id and pose.
+decode_odometry: HeaderDecoder = partial(read_odometry, wires=WIRES)
 #: ``tf2_msgs/msg/TFMessage`` serialized as rosbag2 and rmw_cyclonedds write it: plain CDR, little endian.
 encode_tf_message: TransformEncoder = partial(encode_transforms, wire=WIRES[0])

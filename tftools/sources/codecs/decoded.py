@@ -134,17 +134,28 @@ _COLUMNS = ("message", "parent", "child", "stamp", "translation", "rotation")
 class Headers:
     """The headers of decoded messages, in message order: ``message`` is each one's message (an index
     into the payloads given), ``frame`` ids of a ``FrameNames``; ``failures`` the (message, reason)
-    of payloads that do not start with a header."""
+    of payloads that do not start with a header. Of messages that state a transform beside their header
+    (nav_msgs/Odometry: ``wire.read_odometry``), ``child`` its child frame (ids of the same ``FrameNames``, -1
+    where not read) and ``pose`` its value (N x 7: x y z qx qy qz qw, NaN where not read); both empty for
+    other types."""
 
-    __slots__ = ("failures", "frame", "message", "stamp")
+    __slots__ = ("child", "failures", "frame", "message", "pose", "stamp")
 
     def __init__(
-        self, message: Int64Array, stamp: Int64Array, frame: Int32Array, failures: list[tuple[int, str]]
+        self,
+        message: Int64Array,
+        stamp: Int64Array,
+        frame: Int32Array,
+        failures: list[tuple[int, str]],
+        child: Int32Array | None = None,
+        pose: FloatArray | None = None,
     ) -> None:
         self.message = message
         self.stamp = stamp
         self.frame = frame
         self.failures = failures
+        self.child = child if child is not None else np.zeros(0, np.int32)
+        self.pose = pose if pose is not None else np.zeros((0, 7))
 
 
 #: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.

@@ -7,12 +7,14 @@ from functools import partial
 
 from tftools.sources.codecs.decoded import BulkDecoder, ClockDecoder, HeaderDecoder, TransformEncoder
 from tftools.sources.codecs.stepped import SteppedDecoder
-from tftools.sources.codecs.wire import Wire, decode_times, encode_transforms, read_headers
+from tftools.sources.codecs.wire import Wire, decode_times, encode_transforms, read_headers, read_odometry
 
 WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exact=True),)
 
 decode_tf: BulkDecoder = SteppedDecoder(WIRES)
 decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
 decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
+#: ``nav_msgs/Odometry``'s headers, each with its child_frame_id and pose.
+decode_odometry: HeaderDecoder = partial(read_odometry, wires=WIRES)
 #: ``tf2_msgs/TFMessage`` serialized, every seq 0.
 encode_tf_message: TransformEncoder = partial(encode_transforms, wire=WIRES[0])

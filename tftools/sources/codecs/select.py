@@ -6,7 +6,7 @@ import functools
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, cast
 
-from tftools.sources.codecs.types import CLOCK, TF1_MESSAGE, TF_MESSAGE, has_header, rosidl_name
+from tftools.sources.codecs.types import CLOCK, ODOMETRY, TF1_MESSAGE, TF_MESSAGE, has_header, rosidl_name
 from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA, global_name
 from tftools.values import value
 
@@ -145,7 +145,7 @@ CODECS = {
 }
 CLOCK_CODECS = {(t, e): ClockCodec(t, e, f"{e}.decode_clocks") for t in CLOCK_TYPES for e in ("cdr", "ros1", "json")}
 _FOXGLOVE_TYPES = {c.type_name for c in CODECS.values() if c.foxglove}
-#: The encodings whose headers are read (each module's ``decode_headers``).
+#: The encodings whose headers are read (each module's ``decode_headers``, and ``decode_odometry`` of Odometry).
 _HEADER_ENCODINGS = ("ros1", "cdr")
 #: Types whose header's frame_id places nothing in space, so no tf2 filter waits on it: not sensor data
 #: unless asked for by topic (the one rule ``tfx filter`` and ``tfx wtf`` count sensor topics by), with what
@@ -216,7 +216,8 @@ def select(
         and (wanted.headers or not placed_nowhere(type_name))
         and has_header(type_name, encoding, definition)
     ):
-        headed = HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers", wanted.header_limit)
+        decoder = "decode_odometry" if rosidl_name(type_name) == ODOMETRY else "decode_headers"
+        headed = HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.{decoder}", wanted.header_limit)
         return headed, unread
     return None, unread
 

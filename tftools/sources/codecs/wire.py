@@ -10,6 +10,7 @@ NUL. A transform is a header, a string child_frame_id and 7 float64 (translation
 from __future__ import annotations
 
 import enum
+import math
 import struct
 from collections.abc import Callable, Sequence
 from functools import cached_property
@@ -227,10 +228,62 @@ def read_headers(
 
 
 def _header(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Header:
-    stamp, at, size = Cursor(raw, wire_of(raw, start, length, wires), start, start + length).header()
+    return _header_at(Cursor(raw, wire_of(raw, start, length, wires), start, start + length))
+
+
+def _header_at(cursor: Cursor) -> Header:
+    """The header ``cursor`` stands at, read; the cursor moves past it."""
+    stamp, at, size = cursor.header()
     if size > MAX_FRAME_ID:
-        raise DecodeError(worded(Reason.LONG_FRAME_ID, length, at - start, size))
-    return stamp, bytes(raw[at : at + size]).decode("utf-8", "replace")
+        raise DecodeError(worded(Reason.LONG_FRAME_ID, cursor.end - cursor.start, at - cursor.start, size))
+    return stamp, bytes(cursor.raw[at : at + size]).decode("utf-8", "replace")
+
+
+def read_odometry(
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wires: Sequence[Wire]
+) -> Headers:
+    """``read_headers`` of ``nav_msgs/Odometry``, with what each message states beside its header: the transform
+    from its header's frame to its child_frame_id, the string after the header, then its pose's position and
+    orientation (7 float64, the first of its pose with covariance). Of a message given cut short (its first
+    ``HEADER_BYTES``, a long frame_id), or whose child_frame_id is too long, the header alone (child -1, a NaN
+    pose)."""
+    view = raw.data
+    read: list[int] = []
+    stamps: list[int] = []
+    ids: list[int] = []
+    children: list[int] = []
+    poses: list[tuple[float, ...]] = []
+    failures: list[tuple[int, str]] = []
+    unknown = (math.nan,) * 7
+    for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
+        try:
+            cursor = Cursor(view, wire_of(view, start, length, wires), start, start + length)
+            stamp, frame_id = _header_at(cursor)
+        except DecodeError as e:
+            failures.append((message, str(e)))
+            continue
+        child, pose = -1, unknown
+        try:
+            at, size = cursor.string()
+            if size <= MAX_FRAME_ID:
+                named = bytes(view[at : at + size]).decode("utf-8", "replace")
+                pose = struct.unpack_from(f"{cursor.wire.order}7d", view, cursor.take(VALUES_SIZE, 8))
+                child = frames.intern(named)
+        except DecodeError:
+            pass
+        read.append(message)
+        stamps.append(stamp)
+        ids.append(frames.intern(frame_id))
+        children.append(child)
+        poses.append(pose)
+    return Headers(
+        np.array(read, np.int64),
+        np.array(stamps, np.int64),
+        np.array(ids, np.int32),
+        failures,
+        np.array(children, np.int32),
+        np.array(poses, np.float64).reshape(-1, 7),
+    )
 
 
 # --- times --------------------------------------------------------------------------------------

@@ -1,0 +1,80 @@
+"""nav_msgs/Odometry read by the one header decoder of each encoding (ROS 1, CDR): its header, and the transform
+it states beside it, from the header's frame to its child_frame_id (the pose's position and orientation)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from tftools.sources.codecs import cdr, ros1
+from tftools.sources.codecs.decoded import FrameNames
+from tftools.sources.codecs.select import Wanted, select
+from tftools.sources.codecs.types import typestore
+from tftools.sources.codecs.wire import HEADER_BYTES
+
+ODOMETRY = "nav_msgs/msg/Odometry"
+POSE = (1.5, -2.25, 0.125, 0.0, 0.0, 0.6, 0.8)
+
+
+def _odometry(store: Any, frame: str, child: str) -> Any:
+    types = store.types
+    stamp = types["builtin_interfaces/msg/Time"](1_700_000_000, 250)
+    ros1_header = next(name for name, _ in store.fielddefs["std_msgs/msg/Header"][1]) == "seq"
+    header = types["std_msgs/msg/Header"](*([7] if ros1_header else []), stamp, frame)
+    point = types["geometry_msgs/msg/Point"](*POSE[:3])
+    orientation = types["geometry_msgs/msg/Quaternion"](*POSE[3:])
+    pose = types["geometry_msgs/msg/PoseWithCovariance"](
+        types["geometry_msgs/msg/Pose"](point, orientation), np.arange(36, dtype=np.float64)
+    )
+    linear = types["geometry_msgs/msg/Vector3"](0.1, 0.0, 0.0)
+    twist = types["geometry_msgs/msg/TwistWithCovariance"](
+        types["geometry_msgs/msg/Twist"](linear, linear), np.zeros(36)
+    )
+    return types[ODOMETRY](header, child, pose, twist)
+
+
+def _payloads(encoding: str, messages: list[tuple[str, str]]) -> list[bytes]:
+    if encoding == "ros1":
+        store = typestore("ros1_noetic")
+        return [bytes(store.serialize_ros1(_odometry(store, f, c), ODOMETRY)) for f, c in messages]
+    store = typestore("ros2_humble")
+    return [bytes(store.serialize_cdr(_odometry(store, f, c), ODOMETRY)) for f, c in messages]
+
+
+def _decode(encoding: str, payloads: list[bytes], cut: int | None = None) -> tuple[Any, FrameNames]:
+    raw = np.frombuffer(b"".join(payloads), np.uint8)
+    lengths = np.array([len(p) for p in payloads], np.int64)
+    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64)
+    frames = FrameNames()
+    decode = ros1.decode_odometry if encoding == "ros1" else cdr.decode_odometry
+    return decode(raw, starts, np.minimum(lengths, cut) if cut else lengths, frames), frames
+
+
+@pytest.mark.parametrize("encoding", ["ros1", "cdr"])
+def test_each_odometry_states_its_child_frame_and_pose(encoding: str) -> None:
+    headers, frames = _decode(encoding, _payloads(encoding, [("odom", "base_footprint"), ("odom", "base_link")]))
+    assert headers.failures == []
+    assert headers.stamp.tolist() == [1_700_000_000 * 10**9 + 250] * 2
+    assert [frames.names[i] for i in headers.frame.tolist()] == ["odom", "odom"]
+    assert [frames.names[i] for i in headers.child.tolist()] == ["base_footprint", "base_link"]
+    assert headers.pose.tolist() == [list(POSE)] * 2
+
+
+@pytest.mark.parametrize("encoding", ["ros1", "cdr"])
+def test_an_odometry_given_cut_short_keeps_its_header_alone(encoding: str) -> None:
+    """Bag readers give a header decoder the first ``HEADER_BYTES`` of a message: a frame_id long enough leaves
+    no room for the child's name or the pose, which are then unknown, not damage."""
+    long_frame = "o" * (HEADER_BYTES - 40)
+    headers, frames = _decode(encoding, _payloads(encoding, [(long_frame, "base_link")]), cut=HEADER_BYTES)
+    assert headers.failures == [] and frames.names[int(headers.frame[0])] == long_frame
+    assert headers.child.tolist() == [-1] and np.isnan(headers.pose).all()
+
+
+@pytest.mark.parametrize("encoding", ["ros1", "cdr"])
+def test_odometry_topics_are_read_by_the_odometry_decoder(encoding: str) -> None:
+    codec, _ = select("/odom", "nav_msgs/Odometry" if encoding == "ros1" else ODOMETRY, encoding, Wanted(headers=()))
+    assert codec is not None and getattr(codec, "decoder", "") == f"{encoding}.decode_odometry"
+    imu, _ = select("/imu", "sensor_msgs/msg/Imu", encoding, Wanted(headers=()))
+    assert imu is not None and getattr(imu, "decoder", "") == f"{encoding}.decode_headers"
