@@ -4,6 +4,7 @@ as the codecs parse it, gathered per topic."""
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from itertools import groupby
 
@@ -11,7 +12,7 @@ import numpy as np
 
 from tftools.core.arrays import Int64Array
 from tftools.core.frames import Names
-from tftools.sources.codecs.decoded import Header
+from tftools.sources.codecs.decoded import Header, Stated
 from tftools.sources.codecs.gather import first_and_inverse
 from tftools.sources.contents import StampedMessages
 
@@ -19,7 +20,18 @@ from tftools.sources.contents import StampedMessages
 class HeaderCollector:
     """One topic's headers as they are read, at most ``limit`` of them (None: all)."""
 
-    __slots__ = ("damaged", "frame", "frame_ids", "left_out", "limit", "record_time", "stamp", "type")
+    __slots__ = (
+        "children",
+        "damaged",
+        "frame",
+        "frame_ids",
+        "left_out",
+        "limit",
+        "poses",
+        "record_time",
+        "stamp",
+        "type",
+    )
 
     def __init__(self, type: str, limit: int | None = None) -> None:
         self.type = type
@@ -30,9 +42,12 @@ class HeaderCollector:
         self.frame_ids = Names()
         self.damaged = 0
         self.left_out = 0
+        self.children: list[str | None] = []  # of each message kept, the child of the transform it states
+        self.poses: list[tuple[float, ...]] = []
 
-    def add(self, record_time: int, header: Header | None) -> None:
-        """A message that arrived at ``record_time``; ``header`` None: one too damaged for a header."""
+    def add(self, record_time: int, header: Header | None, stated: Stated | None = None) -> None:
+        """A message that arrived at ``record_time``; ``header`` None: one too damaged for a header; ``stated``:
+        the transform it states beside it (an Odometry's)."""
         if header is None:
             self.damaged += 1
         elif self.limit is not None and len(self.record_time) >= self.limit:
@@ -42,6 +57,8 @@ class HeaderCollector:
             self.record_time.append(record_time)
             self.stamp.append(stamp)
             self.frame.append(self.frame_ids.intern(frame_id))
+            self.children.append(stated[0] if stated is not None else None)
+            self.poses.append(stated[1] if stated is not None else (math.nan,) * 7)
 
     def problems(self, topic: str) -> list[str]:
         """What was not kept of the topic, in a line each."""
@@ -57,7 +74,7 @@ class HeaderCollector:
 
     def done(self, topic: str) -> StampedMessages:
         order = np.argsort(np.array(self.record_time, np.int64), kind="stable")
-        return StampedMessages(
+        stream = StampedMessages(
             topic,
             self.type,
             np.array(self.record_time, np.int64)[order],
@@ -65,6 +82,12 @@ class HeaderCollector:
             np.array(self.frame, np.int32)[order],
             list(self.frame_ids.names),
         )
+        if not any(child is not None for child in self.children):
+            return stream
+        names = Names()
+        child = np.array([names.intern(c) if c is not None else -1 for c in self.children], np.int32)[order]
+        pose = np.array(self.poses, np.float64).reshape(-1, 7)[order]
+        return dataclasses.replace(stream, child=child, pose=pose, child_ids=list(names.names))
 
 
 def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:

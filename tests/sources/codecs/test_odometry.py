@@ -8,11 +8,13 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tftools.core.time import WallClock
 from tftools.sources.codecs import cdr, ros1
-from tftools.sources.codecs.decoded import FrameNames
-from tftools.sources.codecs.select import Wanted, select
+from tftools.sources.codecs.decoded import FrameNames, message_header
+from tftools.sources.codecs.select import Wanted, header_decoder, select
 from tftools.sources.codecs.types import typestore
 from tftools.sources.codecs.wire import HEADER_BYTES
+from tftools.sources.live.header_store import HeaderStore
 
 ODOMETRY = "nav_msgs/msg/Odometry"
 POSE = (1.5, -2.25, 0.125, 0.0, 0.0, 0.6, 0.8)
@@ -78,3 +80,17 @@ def test_odometry_topics_are_read_by_the_odometry_decoder(encoding: str) -> None
     assert codec is not None and getattr(codec, "decoder", "") == f"{encoding}.decode_odometry"
     imu, _ = select("/imu", "sensor_msgs/msg/Imu", encoding, Wanted(headers=()))
     assert imu is not None and getattr(imu, "decoder", "") == f"{encoding}.decode_headers"
+
+
+@pytest.mark.parametrize("encoding", ["ros1", "cdr"])
+def test_odometry_heard_live_keeps_the_transform_it_states(encoding: str) -> None:
+    """A live listener decodes each message alone (``message_header``) with the same decoder a bag's read uses
+    (``header_decoder``): an Odometry's child and pose are kept beside its header; an IMU's have none."""
+    store = HeaderStore(WallClock())
+    for payload in _payloads(encoding, [("odom", "base_link"), ("odom", "base_footprint")]):
+        store.heard("/odom", ODOMETRY, *message_header(header_decoder(ODOMETRY, encoding), payload))
+    store.heard("/imu", "sensor_msgs/msg/Imu", (5, "imu"))
+    imu, odom = store.read().streams
+    assert odom.states_transforms and not imu.states_transforms
+    assert [odom.child_ids[c] for c in odom.child.tolist()] == ["base_link", "base_footprint"]
+    assert odom.pose.tolist() == [list(POSE)] * 2

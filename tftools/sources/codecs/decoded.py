@@ -178,14 +178,22 @@ def message_clock(decode: ClockDecoder, data: bytes) -> int:
     return int(times[0])
 
 
-def message_header(decode: HeaderDecoder, data: bytes) -> Header | None:
-    """The header one message starts with, decoded by the bulk decoder ``decode``; None where it
-    cannot start with one."""
+#: The transform a message states beside its header (an Odometry's, ``Headers.child``): its child frame, and
+#: its value (x y z qx qy qz qw).
+Stated = tuple[str, tuple[float, ...]]
+
+
+def message_header(decode: HeaderDecoder, data: bytes) -> tuple[Header | None, Stated | None]:
+    """The header one message starts with, decoded by the bulk decoder ``decode`` (None where it cannot
+    start with one), and the transform it states beside it (None where it states none, or it was not read)."""
     frames = FrameNames()
     headers = decode(*_one(data), frames)
     if headers.failures:
-        return None
-    return int(headers.stamp[0]), frames.names[int(headers.frame[0])]
+        return None, None
+    header = int(headers.stamp[0]), frames.names[int(headers.frame[0])]
+    if not len(headers.child) or headers.child[0] < 0:
+        return header, None
+    return header, (frames.names[int(headers.child[0])], tuple(float(v) for v in headers.pose[0]))
 
 
 def _one(data: bytes) -> tuple[UInt8Array, Int64Array, Int64Array]:

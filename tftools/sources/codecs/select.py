@@ -159,6 +159,17 @@ _UNPLACED = {
 }
 
 
+def _header_decoder(type_name: str, encoding: str) -> str:
+    """Which decoder reads the headers of ``type_name`` in ``encoding`` (ros1, cdr): Odometry's reads the
+    transform each message states beside its header too."""
+    return f"{encoding}.{'decode_odometry' if rosidl_name(type_name) == ODOMETRY else 'decode_headers'}"
+
+
+def header_decoder(type_name: str, encoding: str) -> HeaderDecoder:
+    """The decoder of the headers of ``type_name`` in ``encoding`` (ros1, cdr), a bag's or a live source's."""
+    return cast("HeaderDecoder", _decoder(_header_decoder(type_name, encoding)))
+
+
 def placed_nowhere(type_name: str) -> str:
     """What messages of ``type_name`` hold where their header's frame_id places nothing in space (a gamepad's
     Joy, joint states), else "": not read as sensor data unless asked for by topic."""
@@ -216,8 +227,9 @@ def select(
         and (wanted.headers or not placed_nowhere(type_name))
         and has_header(type_name, encoding, definition)
     ):
-        decoder = "decode_odometry" if rosidl_name(type_name) == ODOMETRY else "decode_headers"
-        headed = HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.{decoder}", wanted.header_limit)
+        headed = HeaderCodec(
+            rosidl_name(type_name), encoding, _header_decoder(type_name, encoding), wanted.header_limit
+        )
         return headed, unread
     return None, unread
 

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from tftools.core.time import Clock
-from tftools.sources.codecs.decoded import Header
+from tftools.sources.codecs.decoded import Header, Stated
 from tftools.sources.codecs.select import placed_nowhere
 from tftools.sources.contents import NOT_SENSOR_DATA, StampedRead
 from tftools.sources.headers import HeaderCollector
@@ -44,10 +44,10 @@ class HeaderStore:
     def wants(self, topic: str) -> bool:
         return topic in self.topics if self.topics is not None else topic not in NOT_SENSOR_DATA
 
-    def heard(self, topic: str, msgtype: str, header: Header | None) -> None:
-        """A message of ``topic`` arrived now; ``header`` None: one whose bytes hold no header. A type whose header
-        places nothing in space (``placed_nowhere``: joint states, a gamepad's) is kept only where asked for by
-        topic, as in a recording."""
+    def heard(self, topic: str, msgtype: str, header: Header | None, stated: Stated | None = None) -> None:
+        """A message of ``topic`` arrived now; ``header`` None: one whose bytes hold no header; ``stated``: the
+        transform it states beside it (an Odometry's). A type whose header places nothing in space
+        (``placed_nowhere``: joint states, a gamepad's) is kept only where asked for by topic, as in a recording."""
         if self.topics is None and placed_nowhere(msgtype):
             return
         arrived = self.clock.now()
@@ -55,7 +55,7 @@ class HeaderStore:
             collector = self._collected.get(topic)
             if collector is None:
                 collector = self._collected[topic] = HeaderCollector(msgtype, self._limit)
-            collector.add(arrived, header)
+            collector.add(arrived, header, stated)
             if collector.left_out == 1:
                 self.notice(f"{topic}: {self._limit} messages heard, tfx's limit per topic: later ones are not checked")
 

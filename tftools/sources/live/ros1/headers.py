@@ -7,8 +7,8 @@ from __future__ import annotations
 import threading
 from collections.abc import Mapping
 
-from tftools.sources.codecs import ros1
 from tftools.sources.codecs.decoded import message_header
+from tftools.sources.codecs.select import header_decoder
 from tftools.sources.codecs.types import MessageType, definition_starts_with_header, rosidl_name
 from tftools.sources.live.errors import LiveError
 from tftools.sources.live.header_store import HeaderStore
@@ -81,7 +81,7 @@ class Ros1HeaderListener:
             return False
 
         def receive(data: bytes, _callerid: str) -> None:
-            store.heard(topic, msgtype, message_header(ros1.decode_headers, data))
+            store.heard(topic, msgtype, *message_header(header_decoder(msgtype, "ros1"), data))
 
         with self._closing:
             if not self._stopped.is_set():

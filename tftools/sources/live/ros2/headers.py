@@ -15,8 +15,8 @@ from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, D
 from cyclonedds.core import DDSException
 from cyclonedds.idl import IdlStruct, make_idl_struct
 
-from tftools.sources.codecs import cdr
-from tftools.sources.codecs.decoded import message_header
+from tftools.sources.codecs.decoded import HeaderDecoder, message_header
+from tftools.sources.codecs.select import header_decoder
 from tftools.sources.codecs.types import starts_with_header
 from tftools.sources.live.errors import DdsError
 from tftools.sources.live.header_store import HeaderStore
@@ -46,6 +46,10 @@ class _SensorReader:
     topic: str  # the ROS name, e.g. "/scan"
     msgtype: str  # rosidl's, e.g. "sensor_msgs/msg/LaserScan"
     reader: Any
+
+    @property
+    def decode(self) -> HeaderDecoder:
+        return header_decoder(self.msgtype, "cdr")
 
 
 class Ros2HeaderListener:
@@ -117,4 +121,4 @@ class Ros2HeaderListener:
             if sensor is None:
                 continue
             for data, _info in take_raw(sensor.reader):
-                self._store.heard(sensor.topic, sensor.msgtype, message_header(cdr.decode_headers, data))
+                self._store.heard(sensor.topic, sensor.msgtype, *message_header(sensor.decode, data))
