@@ -1,11 +1,14 @@
 """Issue 39 (brief diff43), each on the real recordings that showed it: `tfx diff`'s edge that stopped early in one
-run only, and edge held still on /tf whose values jitter at float rounding. The designed reproductions are beside
-the code's own tests (tests/analysis/test_expected.py)."""
+run only, and edge held still on /tf whose values jitter at float rounding; nav_msgs/Odometry's child_frame_id and
+pose against tf; `tfx monitor`'s two delays said apart. The designed reproductions are beside the code's own tests
+(tests/analysis/test_expected.py, test_wtf_odometry.py, tests/sources/codecs/test_odometry.py)."""
 
 from __future__ import annotations
 
 import json
 from typing import Any
+
+import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.recordings import BY_ID, Corpus
@@ -20,6 +23,19 @@ UR5 = "ros2-ur5-two-clocks-topic-tf-2023-db3"
 KRISHI_UR5 = "ros2-krishi-cobot-ur5-fruits-two-trees-2025-db3"
 HUSKY_UR = "ros2-husky-ur-moveit2-gazebo-2025-db3"
 HUSKY_UR_LONG = "ros2-husky-ur-moveit2-gazebo-long-2025-db3"
+NEATO_URDF = "ros1-neato-urdf-beside-driver-2018-bag"
+#: Recordings whose /odom comes from the node that sends the edge on tf (TurtleBot3's, the Neato's driver, the
+#: MIT car's vesc_to_odom, a Kobuki in Gazebo re-sending stamps, a Guardian): odometry and tf agree.
+HEALTHY_ODOMETRY = (
+    "ros2-turtlebot3-real-foxy-2023-db3",
+    "ros2-turtlebot3-real-wifi-outage-2025-db3",
+    "ros2-neato-real-fsm-odom-jump-2023-db3",
+    "ros1-neato-square-dance-2018-bag",
+    "ros2-mit-rss-racecar-real-vesc-odometry-safety-stop-three-static-publishers-2026-db3",
+    "ros1-gazebo-kobuki-repeated-stamps-2017-bag",
+    "ros1-robotnik-guardian-real-lab-run-empty-tf-messages-rsp-post-dated-no-callerid-2014-bag",
+    "ros1-sail-zed-ekf-gps-two-odometries-2022-bag",
+)
 
 
 def _diff(tfx: Tfx, corpus: Corpus, first: str, second: str) -> tuple[int, list[dict[str, Any]]]:  # noqa: F811
@@ -88,3 +104,42 @@ def test_the_husky_ur_arms_shoulder_held_in_both_runs_is_no_difference(corpus: C
     assert [h.times if h is not None else None for h in held] == [395, 480]
     code, found = _diff(tfx, corpus, HUSKY_UR, HUSKY_UR_LONG)
     assert (code, found) == (0, [])
+
+
+def _wtf(tfx: Tfx, corpus: Corpus, recording: str) -> list[dict[str, Any]]:  # noqa: F811
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[recording]), "--format", "json").stdout)["bags"]
+    findings: list[dict[str, Any]] = bag["findings"]
+    return findings
+
+
+def test_the_neatos_odometry_against_the_base_link_tf2_holds_static(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The Neato's driver sends /odom and odom -> base_link on /tf, but base_link came first on /tf_static (its
+    URDF's base_footprint -> base_link): ROS 1's tf2 holds it static, each /tf sample replacing its value for every
+    time. At each of the 413 /odom stamps tf gives base_link's last value, 1.431 m at most (median 0.969 m) from
+    the odometry's: by the bytes (rosbags' reader), the last /tf base_link at (3.009, 0.435) against every /odom
+    pose, 1.4307 m at most, median 0.9689 m."""
+    (odometry,) = [f for f in _wtf(tfx, corpus, NEATO_URDF) if f["code"] == "odometry"]
+    assert odometry["severity"] == "info"
+    assert odometry["message"].startswith(
+        "/odom: 413 nav_msgs/msg/Odometry messages state odom -> base_link; at the 413 of their stamps tf has "
+        "samples at too, tf's value is up to 1.431 m"
+    ), odometry["message"]
+    assert "(median 0.969 m)" in odometry["message"]
+
+
+@pytest.mark.parametrize("recording", HEALTHY_ODOMETRY)
+def test_odometry_sent_beside_its_own_tf_is_no_finding(corpus: Corpus, tfx: Tfx, recording: str) -> None:  # noqa: F811
+    """Each of these sends nav_msgs/Odometry and the same edge on tf from one node: at their common stamps they
+    agree within 1 mm and 0.1° (the Kobuki's re-sent stamps 14 um and 0.01° from the first, which tf2 keeps)."""
+    assert [f["message"] for f in _wtf(tfx, corpus, recording) if f["code"] == "odometry"] == []
+
+
+def test_the_agvs_odometry_hint_names_the_child_frame_its_messages_state(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The replayed AGV's /odom_enc: 427 nav_msgs/Odometry in 'odom_enc', which no transform names, each stating
+    odom_enc -> base_footprint (its child_frame_id, by the bytes). The hint said "its transform to the robot (to the
+    messages' child_frame_id)" without naming it; it names base_footprint now, in wtf and in filter alike."""
+    agv = "ros1-agv-two-lasers-mounts-on-tf-and-tf-static-replayed-2018-bag"
+    (lost,) = [f for f in _wtf(tfx, corpus, agv) if f["code"] == "sensor_frame" and "/odom_enc" in f["message"]]
+    assert "its transform to the robot (to base_footprint, the messages' child_frame_id) is not on tf" in lost["hint"]
+    said = " ".join(tfx("filter", "/odom_enc", "-b", corpus(BY_ID[agv])).stdout.split())
+    assert "(to base_footprint, the messages' child_frame_id)" in said, said

@@ -3,7 +3,9 @@ frame sensor data is transformed into, asked for or chosen by REP 105."""
 
 from __future__ import annotations
 
-from collections.abc import Collection
+from collections.abc import Collection, Sequence
+
+import numpy as np
 
 from tftools.analysis.frames import FrameTree
 from tftools.core.frames import frame_name
@@ -37,15 +39,24 @@ def is_odometry(msgtype: str) -> bool:
     return msgtype.rsplit("/", 1)[-1] == "Odometry"
 
 
-def odometry_tf_unpublished(named: str) -> str:
+def stated_children(stream: StampedMessages) -> tuple[str, ...]:
+    """The child frames ``stream``'s messages state a transform to (nav_msgs/Odometry's child_frame_id, as its
+    codec reads it: ``StampedMessages.child``), named ones, as they first come; () for other types."""
+    ids = stream.child[stream.child >= 0]
+    _, first = np.unique(ids, return_index=True)
+    return tuple(n for n in (stream.child_ids[int(ids[k])] for k in np.sort(first).tolist()) if n)
+
+
+def odometry_tf_unpublished(named: str, children: Sequence[str] = ()) -> str:
     """Why odometry in frames ``named`` (worded: ``'odom_enc'``) no transform names is lost, and what to do:
     its own transform is not on tf, not a mount to publish nor a frame_id to set (frand08/ramon_slam's
-    cartographer bag: /odom_enc in odom_enc, child base_footprint in the tree). ``tfx wtf``'s and ``tfx
-    filter``'s words for it."""
+    cartographer bag: /odom_enc in odom_enc, child base_footprint in the tree); ``children``, the child frames
+    its messages state (``stated_children``), named where known. ``tfx wtf``'s and ``tfx filter``'s words for it."""
+    child = f"to {', '.join(children)}, the messages' child_frame_id" if children else "to the messages' child_frame_id"
     return (
-        f"{named} is the frame of odometry (nav_msgs/Odometry), and its transform to the robot (to the messages' "
-        "child_frame_id) is not on tf: turn on the odometry node's tf (e.g. a controller's enable_odom_tf, a "
-        "publish_tf parameter), or record it"
+        f"{named} is the frame of odometry (nav_msgs/Odometry), and its transform to the robot ({child}) is not on "
+        "tf: turn on the odometry node's tf (e.g. a controller's enable_odom_tf, a publish_tf parameter), or "
+        "record it"
     )
 
 

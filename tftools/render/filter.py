@@ -148,7 +148,7 @@ def _advice(s: StreamReport) -> str:
         if most == "unknown_frame" and s.unplaced:  # REP 105's map or odom, a pose in the world: tfx wtf's words
             instead = s.unplaced
         elif most == "unknown_frame" and is_odometry(s.type):  # its frame is its own tf's, not a mount's
-            instead = odometry_tf_unpublished(", ".join(repr(f) for f in s.frame_ids))
+            instead = odometry_tf_unpublished(", ".join(repr(f) for f in s.frame_ids), s.children)
         if s.clock_apart:  # no wait or cache meets a stamp hours from tf's
             instead = clocks_apart(s.clock_apart)
         if s.stamped_zero >= sum(s.reasons.values()):  # every one lost was stamped 0: said below, once

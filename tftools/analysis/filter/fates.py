@@ -38,7 +38,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_unique
-from tftools.analysis.targets import WORLD_FRAMES, is_odometry, world_frame_unpublished, world_pose_unpublished
+from tftools.analysis.targets import (
+    WORLD_FRAMES,
+    is_odometry,
+    stated_children,
+    world_frame_unpublished,
+    world_pose_unpublished,
+)
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
@@ -580,6 +586,8 @@ class StreamReport:
     # What keeps the messages lost to an unknown frame where that frame is REP 105's map or odom (``tfx wtf``'s
     # words, ``world_frame_unpublished``); "" for other frames.
     unplaced: str = ""
+    # The child frames its messages state a transform to (nav_msgs/Odometry's child_frame_id), as they first come.
+    children: tuple[str, ...] = ()
 
     def wait_made_of(self) -> str:
         """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
@@ -686,6 +694,7 @@ def stream_report(
         before_any_tf=bool(early.any()) and bool((fates.fate[early] == Fate.BEFORE_ANY_TF).all()),
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
         unplaced=_unplaced(buffer, stream, target) if counts[Fate.UNKNOWN_FRAME] else "",
+        children=stated_children(stream),
     )
 
 

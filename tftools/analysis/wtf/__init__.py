@@ -12,6 +12,7 @@ from tftools.analysis.wtf import (  # noqa: F401  (they register their checks)
     description,
     expectations,
     jumps,
+    odometry,
     replay,
     sensors,
     silence,

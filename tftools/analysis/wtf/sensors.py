@@ -46,6 +46,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
     publishes map -> odom not recorded: a MiR's /initialpose and /landmark_list in map), said once."""
     unknown_by_frames: dict[tuple[str, ...], list[tuple[str, int, int, int]]] = {}
     odometry: dict[tuple[str, ...], bool] = {}
+    children: dict[tuple[str, ...], tuple[str, ...]] = {}  # the child frames odometry in them states
     for s in scene.sensors.streams:
         unknown = s.reasons.get("unknown_frame", 0)
         apart = s.reasons.get("not_connected", 0)
@@ -55,6 +56,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         if unknown:
             unknown_by_frames.setdefault(missing, []).append((s.topic, unknown, apart, s.messages))
             odometry[missing] = odometry.get(missing, True) and is_odometry(s.type)
+            children[missing] = tuple(dict.fromkeys(children.get(missing, ()) + s.children))
             continue
         # Frames tf knows, in a tree of their own: the recording's trees are apart (``disconnected``, which
         # explains this); lookups within that tree work, only those into the target fail.
@@ -81,7 +83,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             Severity.error,
             "sensor_frame",
             f"{where} in frame {named}, which no transform names",
-            _unknown_frame_hint(scene, list(missing), any(close.values()), odometry[missing])
+            _unknown_frame_hint(scene, list(missing), any(close.values()), odometry[missing], children[missing])
             + ": every tf lookup and MessageFilter on this data fails",
             missing,
             count=sum(unknown + apart for _, unknown, apart, _ in topics),
@@ -158,9 +160,12 @@ def _no_topic(topics: list[str], what: str, record: str) -> str:
     )
 
 
-def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: bool = False) -> str:
+def _unknown_frame_hint(
+    scene: Scene, missing: list[str], typo: bool, odometry: bool = False, children: tuple[str, ...] = ()
+) -> str:
     """What is missing where sensor data names a frame no transform names: the moving transforms, not
-    recorded or sent empty; else a typo (a frame of the tree is close) or the transform's publisher."""
+    recorded or sent empty; else a typo (a frame of the tree is close) or the transform's publisher (of
+    odometry, to the ``children`` it states)."""
     rows = scene.rows
     moving = [t for t in scene.recording.contents.topics if not is_static_topic(t)]
     recorded = {t for f in scene.recording.contents.files for t in f.topics}
@@ -182,7 +187,7 @@ def _unknown_frame_hint(scene: Scene, missing: list[str], typo: bool, odometry: 
         # tree) and no odom_enc -> base_footprint on /tf; a mount to publish or a frame_id to set would be wrong.
         # Before the statics' words: a Clearpath Husky of 2013 (ros-planning/navigation's gps_data.bag, tf1, no
         # /tf_static yet) has /encoder in odom_combined, robot_pose_ekf's frame, which no mount would ever name.
-        return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3))
+        return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3), children)
     also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
     # Where tf1's /tf carried every mount and was recorded, both remedies, as `tfx filter` words them: a real robot
     # of 2013 (Ansrala/Delta_Project_3's teleop.bag) has its Hokuyo's scans in base_laser while its
