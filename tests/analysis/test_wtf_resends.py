@@ -384,3 +384,32 @@ def test_a_static_publisher_told_apart_is_said_to_repeat_what_it_repeated(grows:
     (conflict,) = [f for f in findings if f.code == "static_conflict"]
     said = "(3 more messages with up to 3 transforms)" if grows else "(the same 4 times)"
     assert f"publisher 2: 2 transforms at 1700000000.500 (+0.5 s) {said}" in conflict.message, conflict.message
+
+
+@pytest.mark.parametrize("play", [False, True], ids=["whole", "play"])
+def test_monitor_says_what_a_publishers_delay_is_over_where_it_re_sent(tfx: Tfx, tmp_path: Path, play: bool) -> None:  # noqa: F811
+    """Gazebo's drone pose re-sent on 1 ms sim ticks (corpus, tests/corpus/test_diff43.py): ROS 1's tf2 refuses a
+    stamp sent again, so the edge's delay is over the samples it stored and the publisher's over every one it
+    sent (tf_monitor's Node line), later re-sends among them. The two differ, each right: the JSON says over how
+    many transforms the publisher's is, and how many of them no edge's delay holds; the table says it in a line."""
+
+    def odometry(stamp: int) -> list[Transform]:
+        return [_t("odom", "base_link", stamp, 0.001 * (stamp - START) / MS)]
+
+    first = periodic("/ekf", 10, odometry, delay=2 * MS)
+    again = periodic("/ekf", 10, odometry, delay=30 * MS)
+    messages = sorted([statics(), *first, *again], key=lambda m: m.record_time)
+    bag = write_bag(tmp_path / "resent.bag", messages, BagFormat.ros1)
+    window = ["--play", "--rate", "500", "--window", "100"] if play else []
+    result = tfx("monitor", "-b", bag, "-f", "json", *window)
+    report = json.loads(result.stdout.splitlines()[-1] if play else result.stdout)
+    (ekf,) = [a for a in report["authorities"] if a["authority"] == "/ekf"]
+    (edge,) = [e for e in report["edges"] if e["child"] == "base_link"]
+    assert (ekf["delays_counted"], ekf["delays_beyond_edges"]) == (2 * len(first), len(first)), ekf
+    assert edge["delay_mean_s"] < ekf["delay_mean_s"]  # 2 ms, against the mean of 2 and 30 ms
+    text = " ".join(tfx("monitor", "-b", bag).stdout.split())
+    assert (
+        f"/ekf: its delays are over the {2 * len(first)} transforms it sent on /tf (tf_monitor's Node line), " in text
+    )
+    (rsp,) = [a for a in report["authorities"] if a["authority"] == "/rsp"]
+    assert rsp["delays_beyond_edges"] == 0 and "/rsp: its delays" not in text

@@ -144,6 +144,11 @@ class AuthorityStats:
     # ticks: a simulated robot beside a device on the wall clock): those measured and those not; () where all are
     delay_of: tuple[str, ...] = ()
     no_delay_of: tuple[str, ...] = ()
+    #: How many transforms its delay is over (``_sent_delays``), and how many of them no edge's delay holds
+    #: (``edge_delays``): those tf2 refused or did not store again (re-sent stamps), and those of a frame tf2
+    #: holds static though sent on /tf. Where some are, its delay and its edges' may differ, each right.
+    delays_counted: int = 0
+    delays_beyond_edges: int = 0
 
 
 def edge_stats(buffer: Buffer, window: TimeWindow = WHOLE) -> list[EdgeStats]:
@@ -191,6 +196,7 @@ def authority_stats(
     delays: dict[int, list[Int64Array]] = {}
     aparts: dict[int, int] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
+    beyond: dict[int, int] = {}  # how many of each publisher's delays no edge's delay holds
     timed: dict[int, list[str]] = {}  # the moving children whose delays each publisher's figure holds
     untimed: dict[int, list[str]] = {}  # and those it does not
     arrived: list[_Arrived] = []  # the rows, for a guess of the messages where ``sent`` does not tell them
@@ -208,8 +214,9 @@ def authority_stats(
             if sent is None:
                 arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
                 arrived += [(a, hist.static, extra[1], extra[2])] if extra is not None else []
-            measured = _sent_delays(child, hist, mine, timeline, extra)
+            measured, unstored_measured = _sent_delays(child, hist, mine, timeline, extra)
             delays.setdefault(a, []).append(measured)
+            beyond[a] = beyond.get(a, 0) + (len(measured) if hist.static else unstored_measured)
             if not hist.static:
                 (timed if len(measured) else untimed).setdefault(a, []).append(child)
             aparts[a] = max(aparts.get(a, 0), _apart(child, hist, mine, timeline))
@@ -221,17 +228,23 @@ def authority_stats(
             arrived.append((index, was_static, times, stamps))
             # a transform without frames names no edge (foxglove-wizard's drone.mcap: 17 default-made ones)
             edges.setdefault(index, []).extend([(parent, child)] if parent and child else [])
-            delays.setdefault(index, []).append(
-                timeline.delays(child, stamps, times, _topic_flags(was_static, len(stamps)))
-            )
+            unheld = timeline.delays(child, stamps, times, _topic_flags(was_static, len(stamps)))
+            delays.setdefault(index, []).append(unheld)
+            beyond[index] = beyond.get(index, 0) + len(unheld)
     if sent is None:  # the rows guessed into messages were those of the window: all of them count
         sent, window = _guessed(buffer.authorities, arrived), dataclasses.replace(window, start=None, end=None)
     counted = messages_in_window(sent, window)
     return [
-        _partly_timed(
-            _counted(buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0)),
-            timed.get(a, []),
-            untimed.get(a, []),
+        dataclasses.replace(
+            _partly_timed(
+                _counted(
+                    buffer.authorities[a], counted.get(buffer.authorities[a]), edges[a], delays[a], aparts.get(a, 0)
+                ),
+                timed.get(a, []),
+                untimed.get(a, []),
+            ),
+            delays_counted=sum(len(d) for d in delays[a]),
+            delays_beyond_edges=beyond.get(a, 0),
         )
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]
@@ -434,19 +447,22 @@ def _sent_delays(
     rows: BoolArray,
     timeline: Timeline,
     unstored: tuple[str, Int64Array, Int64Array] | None = None,
-) -> Int64Array:
+) -> tuple[Int64Array, int]:
     """How late a publisher's transforms ``rows`` of ``child`` arrived, as tf_monitor's "Node:" line times every one
     it hears on /tf: those of a frame tf2 holds static too (no edge's delay, ``edge_delays``; the link's all the
     same: the Neato's driver's 413 odometries 0.7 ms late on average, its base_link static beside its URDF), and
     its ``unstored`` ones (``_unstored``: parent, record times, stamps) that tf2 refused or did not store again,
     counted among its messages all the same (Gazebo's drone pose re-sent at 1 kHz on 1 ms sim ticks: 2810
-    messages, of which tf2 stored 574, were 1.46 ms late on average, not the stored ones' 1.1 ms)."""
+    messages, of which tf2 stored 574, were 1.46 ms late on average, not the stored ones' 1.1 ms). With how many
+    of them are of the ``unstored`` ones."""
     stamps, times, flags = hist.stamps[rows], hist.record_times[rows], hist.flags[rows]
+    held = len(stamps)
     if unstored is not None:
         _, more_times, more_stamps = unstored
         stamps, times = np.concatenate((stamps, more_stamps)), np.concatenate((times, more_times))
         flags = np.concatenate((flags, _topic_flags(hist.static, len(more_stamps))))
-    return timeline.delays(child, stamps, times, flags)
+    found, measured = timeline.delays_of(child, stamps, times, flags)
+    return found, int(np.count_nonzero(measured[held:]))
 
 
 def _topic_flags(static: bool, count: int) -> UInt8Array:

@@ -198,6 +198,7 @@ def renderable(
         Text(""),
         _authorities(report.authorities, report.unnamed),
         *_partly_timed(report.authorities),
+        *_beyond_edges(report.authorities),
     ]
     return Group(*parts)
 
@@ -214,6 +215,23 @@ def _partly_timed(authorities: Sequence[AuthorityStats]) -> list[Text]:
         for a in authorities
         if a.delay_of
     ]
+
+
+def beyond_edges(a: AuthorityStats) -> str:
+    """What a publisher's delay is over where some of it is no frame's delay (``AuthorityStats.delays_beyond_edges``),
+    so that its figure and its frames' cannot seem to contradict each other unsaid; "" where all of it is."""
+    if not a.delays_beyond_edges:
+        return ""
+    return (
+        f"{a.authority}: its delays are over the {a.delays_counted} transforms it sent on /tf (tf_monitor's Node "
+        f"line), {a.delays_beyond_edges} of them in no frame's (re-sent stamps tf2 did not store again, transforms "
+        "it refused, those of a frame it holds static); a frame's delays are over the samples tf2 stored"
+    )
+
+
+def _beyond_edges(authorities: Sequence[AuthorityStats]) -> list[Text]:
+    """A line for each publisher whose delay is over more than its frames' (``beyond_edges``)."""
+    return [Text(printable(said), style="dim") for a in authorities if (said := beyond_edges(a))]
 
 
 def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
@@ -288,6 +306,9 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
         "delay_unmeasurable": _unmeasurable(a.delay_mean, a.apart),
         "delay_of": list(a.delay_of) or None,  # the frames its delay is over, where it is over some only
         "no_delay_of": list(a.no_delay_of) or None,
+        # the transforms its delay is over, and those of them in no frame's delay (``beyond_edges``)
+        "delays_counted": a.delays_counted,
+        "delays_beyond_edges": a.delays_beyond_edges,
         "edges": [list(edge) for edge in a.edges],
     }
 
