@@ -12,6 +12,7 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.recordings import BY_ID, Corpus
+from tests.corpus.test_diff42 import _diff
 from tftools.analysis.expected import shape_of
 from tftools.sources.recording import read_recording
 
@@ -37,11 +38,6 @@ HEALTHY_ODOMETRY = (
     "ros1-robotnik-guardian-real-lab-run-empty-tf-messages-rsp-post-dated-no-callerid-2014-bag",
     "ros1-sail-zed-ekf-gps-two-odometries-2022-bag",
 )
-
-
-def _diff(tfx: Tfx, corpus: Corpus, first: str, second: str) -> tuple[int, list[dict[str, Any]]]:  # noqa: F811
-    result = tfx("diff", corpus(BY_ID[first]), corpus(BY_ID[second]), "--format", "json")
-    return result.code, json.loads(result.stdout)["differences"]
 
 
 def test_the_neato_whose_odometry_stopped_11_s_before_the_end_against_a_run_sent_to_its_end(
