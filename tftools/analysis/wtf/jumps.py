@@ -17,7 +17,7 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
-from tftools.core.figures import HELD_M, apart, seconds_in_words
+from tftools.core.figures import apart, seconds_in_words
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -27,6 +27,10 @@ JUMP_FACTOR = 5.0
 NEIGHBOURS = 3
 #: An edge sent in messages with other edges this often is a joint (``_joints``).
 JOINT_SHARE = 0.9
+#: A moving edge below the robot's base whose origin never moves further than this turns about a fixed point: a
+#: revolute joint, however it is sent (``_turning_in_place``). Looser than ``figures.HELD_M`` (a value's rounding):
+#: a joint's origin, computed again at each angle, may wobble more than a value re-sent.
+FIXED_ORIGIN_M = 1e-6
 WINDOWS_AT_ONCE = 65536
 #: A step no faster than ``JUMP_FACTOR`` times either step beside it, or than the edge's usual speed (the
 #: median of its steps that moved, where at least this many did), is its own motion too, unless it comes back
@@ -503,16 +507,15 @@ def _recorded_in(times: Int64Array | None, mine: IntpArray, lo: int | None, hi: 
 
 
 def _turning_in_place(scene: Scene) -> set[tuple[str, str]]:
-    """The moving edges whose origin never moves (``figures.HELD_M``) while they turn, not under odom or map: a
-    revolute joint however it is sent, a wheel or a pan joint, whose angle is seen modulo a turn, sent in messages
-    of its own (a real Neato's driver sends each wheel alone). Under odom or map a heading that only turns is a
-    localizer's: its steps jump."""
+    """The moving edges whose origin never moves (``FIXED_ORIGIN_M``) while they turn, not under odom or map: a
+    wheel or a pan joint, whose angle is seen modulo a turn, sent in messages of its own (a real Neato's driver
+    sends each wheel alone). Under odom or map a heading that only turns is a localizer's: its steps jump."""
     return {
         samples.key
         for samples in scene.dynamic_edges
         if base_name(samples.parent) not in (ODOM, MAP)
         and len(samples.values) > 1
-        and bool(np.ptp(samples.values[:, :3], axis=0).max() <= HELD_M)
+        and bool(np.ptp(samples.values[:, :3], axis=0).max() <= FIXED_ORIGIN_M)
     }
 
 
