@@ -228,13 +228,15 @@ def test_every_registered_check_has_a_scene() -> None:
     against_a_urdf = {c for c in CHECKS if c.startswith("urdf_")}  # each with its scene in test_description.py
     # tested on files: tests/cli (bag_problem, unreadable), tests/analysis/test_wtf_hazards.py (static_volatile,
     # silent_tf: metadata.yaml says what a rosbag2 recording's topics held), tests/analysis/test_publishers.py
-    # (resent: on ROS 2 bags, whose metadata.yaml counts the publishers)
+    # (resent: on ROS 2 bags, whose metadata.yaml counts the publishers), tests/analysis/test_wtf_odometry.py
+    # (odometry: against the nav_msgs/Odometry a recording holds beside tf)
     assert set(CHECKS) - shown - against_a_tree - against_a_urdf == {
         "bag_problem",
         "unreadable",
         "static_volatile",
         "silent_tf",
         "resent",
+        "odometry",
     }
 
 
