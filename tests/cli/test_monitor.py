@@ -77,7 +77,7 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
     for authority in doc["authorities"]:
         assert set(authority) == {
             "authority", "messages", "rate_hz", "delay_mean_s", "delay_max_s", "delay_unmeasurable", "delay_of",
-            "no_delay_of", "edges"
+            "no_delay_of", "delays_counted", "delays_beyond_edges", "edges"
         }  # fmt: skip
         assert authority["delay_unmeasurable"] is None  # one clock: every delay measured
     statics = [a for a in doc["authorities"] if all(child in STATIC for _, child in a["edges"])]
