@@ -84,7 +84,10 @@ def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
         stamp = np.concatenate([p.stamp for p in pieces])[order]
         ordered = all(p.ordered for p in pieces)
         before = np.concatenate([p.tf_before for p in pieces])[order] if ordered else np.zeros(0, np.int64)
+        children = tuple(dict.fromkeys(c for p in pieces for c in p.children))
         merged.append(
-            StampedMessages(topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names, before)
+            StampedMessages(
+                topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names, before, children
+            )
         )
     return merged

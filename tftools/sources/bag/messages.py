@@ -108,13 +108,16 @@ class MessageSet:
         self._rows = Rows(self.channels)
         self._failed: Failures = []
         self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
-        self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
+        # message numbers, stamps, frames, children (odometry's child_frame_id, else -1)
+        self._headers: list[tuple[Int64Array, Int64Array, Int32Array, Int32Array]] = []
         self._whole: list[tuple[Int64Array, list[object]]] = []  # message numbers, values
         #: The messages read whole (``Wanted.whole``), per topic in record order, once ``decode`` ran.
         self.whole: list[WholeMessages] = []
         self.count = 0
         self.headers_lost: list[str] = []  # once decoded: a line per topic whose headers were lost
         self.tf_messages: dict[str, tuple[int, int]] = {}  # once decoded: per tf topic, its messages and the empty
+        #: once decoded: per tf topic, the publishers of its empty messages (where the file names them) and how many
+        self.tf_empty_from: dict[str, dict[str, int]] = {}
         self.sent = SentMessages.empty()  # once decoded: the tf messages that held a transform
         #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
         #: play`` does): the positions of its messages, sorted, and each one's place in that order.
@@ -360,7 +363,8 @@ class MessageSet:
                 self._keep_latest_texts()
         elif isinstance(codec, HeaderCodec):
             headers = codec.decode(raw, starts, lengths, self._rows.frames)
-            self._headers.append((ids[headers.message], headers.stamp, headers.frame))
+            child = headers.child if len(headers.child) else np.full(len(headers.message), -1, np.int32)
+            self._headers.append((ids[headers.message], headers.stamp, headers.frame, child))
             failures = headers.failures
         else:
             assert not isinstance(codec, CopyCodec)  # their messages are handed on, never grouped
@@ -408,10 +412,15 @@ class MessageSet:
             held[messages] = True
         held[[message for message, _ in self._failed]] = True  # not read: not known to be empty
         counts: dict[str, tuple[int, int]] = {}
+        self.tf_empty_from = {}
         for i in transforms:
             mine = channel_of == i
-            before = counts.get(self.channels[i].topic, (0, 0))
-            counts[self.channels[i].topic] = (before[0] + int(mine.sum()), before[1] + int((mine & ~held).sum()))
+            topic, publisher, empty = self.channels[i].topic, self.channels[i].publisher, int((mine & ~held).sum())
+            before = counts.get(topic, (0, 0))
+            counts[topic] = (before[0] + int(mine.sum()), before[1] + empty)
+            if empty and publisher:
+                senders = self.tf_empty_from.setdefault(topic, {})
+                senders[publisher] = senders.get(publisher, 0) + empty
         return counts
 
     def _clock(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> ClockSamples:
@@ -429,7 +438,8 @@ class MessageSet:
         any), their frames ids of every frame name of the file, and the transforms read before each."""
         headed = [c for c in self.channels if isinstance(c.codec, HeaderCodec)]
         none = np.zeros(0, np.int64)
-        ids, stamps, frames = _in_record_order(self._headers or [(none, none, none.astype(np.int32))], rank)
+        empty = none.astype(np.int32)
+        ids, stamps, frames, children = _in_record_order(self._headers or [(none, none, empty, empty)], rank)
         topic_of = np.array([c.topic for c in self.channels], object)[channel_of[ids]]
         streams = []
         for topic, type_name in dict((c.topic, c.codec.type_name) for c in headed).items():
@@ -437,7 +447,16 @@ class MessageSet:
             names = self._rows.frames.names
             before = rows_before(rank[ids[mine]])
             streams.append(
-                StampedMessages(topic, type_name, times[ids[mine]], stamps[mine], frames[mine], names, before)
+                StampedMessages(
+                    topic,
+                    type_name,
+                    times[ids[mine]],
+                    stamps[mine],
+                    frames[mine],
+                    names,
+                    before,
+                    _named(children[mine], names),
+                )
             )
         return streams
 
@@ -540,6 +559,11 @@ def _copied(data: bytes | memoryview, starts: Int64Array, lengths: Int64Array) -
     view = memoryview(data)
     joined = b"".join([view[s : s + n] for s, n in zip(starts.tolist(), lengths.tolist(), strict=True)])
     return joined, np.cumsum(lengths) - lengths
+
+
+def _named(ids: Int32Array, names: Sequence[str]) -> tuple[str, ...]:
+    """The names of ``ids`` (-1: none), each once, as they first come."""
+    return tuple(names[i] for i in dict.fromkeys(ids[ids >= 0].tolist()))
 
 
 def _in_record_order(parts: Sequence[tuple[Column, ...]], rank: Int64Array) -> list[Column]:

@@ -25,5 +25,7 @@ decode_tf: BulkDecoder = SteppedDecoder(WIRES)  # FrameTransforms too: the same 
 decode_frame_transform: BulkDecoder = SteppedDecoder(WIRES, counted=False)
 decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
 decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
+#: Odometry's headers, each with the child_frame_id after it.
+decode_odometry_headers: HeaderDecoder = partial(read_headers, wires=WIRES, children=True)
 #: ``tf2_msgs/msg/TFMessage`` serialized as rosbag2 and rmw_cyclonedds write it: plain CDR, little endian.
 encode_tf_message: TransformEncoder = partial(encode_transforms, wire=WIRES[0])

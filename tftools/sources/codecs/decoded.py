@@ -134,17 +134,24 @@ _COLUMNS = ("message", "parent", "child", "stamp", "translation", "rotation")
 class Headers:
     """The headers of decoded messages, in message order: ``message`` is each one's message (an index
     into the payloads given), ``frame`` ids of a ``FrameNames``; ``failures`` the (message, reason)
-    of payloads that do not start with a header."""
+    of payloads that do not start with a header. ``child``: of odometry, each one's child_frame_id (the
+    string after its header; -1 where the bytes given end first), ids of the same table; empty otherwise."""
 
-    __slots__ = ("failures", "frame", "message", "stamp")
+    __slots__ = ("child", "failures", "frame", "message", "stamp")
 
     def __init__(
-        self, message: Int64Array, stamp: Int64Array, frame: Int32Array, failures: list[tuple[int, str]]
+        self,
+        message: Int64Array,
+        stamp: Int64Array,
+        frame: Int32Array,
+        failures: list[tuple[int, str]],
+        child: Int32Array | None = None,
     ) -> None:
         self.message = message
         self.stamp = stamp
         self.frame = frame
         self.failures = failures
+        self.child = child if child is not None else np.zeros(0, np.int32)
 
 
 #: Decodes many payloads, ``raw[starts[i] : starts[i] + lengths[i]]``, their frames interned in the table.

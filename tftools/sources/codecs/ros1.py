@@ -14,5 +14,7 @@ WIRES = (Wire("<", origin=0, align=1, seq=True, signed_sec=False, nul=False, exa
 decode_tf: BulkDecoder = SteppedDecoder(WIRES)
 decode_clocks: ClockDecoder = partial(decode_times, wires=WIRES)
 decode_headers: HeaderDecoder = partial(read_headers, wires=WIRES)
+#: Odometry's headers, each with the child_frame_id after it.
+decode_odometry_headers: HeaderDecoder = partial(read_headers, wires=WIRES, children=True)
 #: ``tf2_msgs/TFMessage`` serialized, every seq 0.
 encode_tf_message: TransformEncoder = partial(encode_transforms, wire=WIRES[0])

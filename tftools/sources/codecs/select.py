@@ -6,7 +6,7 @@ import functools
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, cast
 
-from tftools.sources.codecs.types import CLOCK, TF1_MESSAGE, TF_MESSAGE, has_header, rosidl_name
+from tftools.sources.codecs.types import CLOCK, ODOMETRY, TF1_MESSAGE, TF_MESSAGE, has_header, rosidl_name
 from tftools.sources.contents import DEFAULT_TOPICS, NOT_SENSOR_DATA, global_name
 from tftools.values import value
 
@@ -216,7 +216,8 @@ def select(
         and (wanted.headers or not placed_nowhere(type_name))
         and has_header(type_name, encoding, definition)
     ):
-        headed = HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_headers", wanted.header_limit)
+        kind = "odometry_headers" if rosidl_name(type_name) == ODOMETRY else "headers"
+        headed = HeaderCodec(rosidl_name(type_name), encoding, f"{encoding}.decode_{kind}", wanted.header_limit)
         return headed, unread
     return None, unread
 

@@ -13,6 +13,8 @@ TF_MESSAGE = "tf2_msgs/msg/TFMessage"
 #: tf1's /tf message (the same bytes as TFMessage), from before /tf_static existed (ROS Hydro brought tf2's).
 TF1_MESSAGE = "tf/tfMessage"
 CLOCK = "rosgraph_msgs/msg/Clock"
+#: Odometry, whose header is followed by its child_frame_id (read with the header: ``decode_odometry_headers``).
+ODOMETRY = "nav_msgs/msg/Odometry"
 HEADER_TYPES = frozenset({"std_msgs/msg/Header", "std_msgs/Header"})
 #: ROS 2's definitions tftools knows: the newest first, then Humble's (the long-term release most run).
 ROS2_STORES = ("latest", "ros2_humble")

@@ -204,33 +204,55 @@ def partition(
 
 
 def read_headers(
-    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wires: Sequence[Wire]
+    raw: UInt8Array,
+    starts: Int64Array,
+    lengths: Int64Array,
+    frames: FrameNames,
+    wires: Sequence[Wire],
+    children: bool = False,
 ) -> Headers:
     """The ``std_msgs/Header`` many messages start with, their frame_ids interned in ``frames``: only
     their bytes are read, never the rest (image pixels, points), so only the first ``HEADER_BYTES``
-    of each message need be given."""
+    of each message need be given. With ``children`` (odometry: ``nav_msgs/Odometry``), the string after
+    the header too, its child_frame_id (-1 where the bytes given end before it)."""
     view = raw.data
     read: list[int] = []
     stamps: list[int] = []
     ids: list[int] = []
+    kids: list[int] = []
     failures: list[tuple[int, str]] = []
     for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
         try:
-            stamp, frame_id = _header(view, start, length, wires)
+            cursor = Cursor(view, wire_of(view, start, length, wires), start, start + length)
+            stamp, frame_id = _header(cursor, start, length)
         except DecodeError as e:
             failures.append((message, str(e)))
             continue
         read.append(message)
         stamps.append(stamp)
         ids.append(frames.intern(frame_id))
-    return Headers(np.array(read, np.int64), np.array(stamps, np.int64), np.array(ids, np.int32), failures)
+        if children:
+            kids.append(_child(cursor, frames))
+    child = np.array(kids, np.int32) if children else None
+    return Headers(np.array(read, np.int64), np.array(stamps, np.int64), np.array(ids, np.int32), failures, child)
 
 
-def _header(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Header:
-    stamp, at, size = Cursor(raw, wire_of(raw, start, length, wires), start, start + length).header()
+def _header(cursor: Cursor, start: int, length: int) -> Header:
+    stamp, at, size = cursor.header()
     if size > MAX_FRAME_ID:
         raise DecodeError(worded(Reason.LONG_FRAME_ID, length, at - start, size))
-    return stamp, bytes(raw[at : at + size]).decode("utf-8", "replace")
+    return stamp, bytes(cursor.raw[at : at + size]).decode("utf-8", "replace")
+
+
+def _child(cursor: Cursor, frames: FrameNames) -> int:
+    """The string a header is followed by (odometry's child_frame_id), interned; -1 where it is cut off."""
+    try:
+        at, size = cursor.string()
+    except DecodeError:
+        return -1
+    if size > MAX_FRAME_ID:
+        return -1
+    return frames.intern(bytes(cursor.raw[at : at + size]).decode("utf-8", "replace"))
 
 
 # --- times --------------------------------------------------------------------------------------
