@@ -253,12 +253,48 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published(
     The missing part is the odometry's own transform, not a sensor mount nor a driver's frame_id."""
     rec = recording(sorted([statics(), *ekf(), *wheels()], key=lambda m: m.record_time), ros1=True)
     odometry = dataclasses.replace(sensor("/odom_enc", "odom_enc", 20, 5_000_000), type="nav_msgs/Odometry")
+    odometry = dataclasses.replace(odometry, children=("base_footprint",))  # the bag's child: placed by no other
     sonar = sensor("/range", "sonar_mount", 10, 5_000_000)  # a mount that is missing: the mount's hint
     found = {f.frames: f for f in findings_of(Scene(rec, streams=[odometry, sonar])) if f.code == "sensor_frame"}
     hint = found[("odom_enc",)].hint
     assert "'odom_enc' is the frame of odometry" in hint and "enable_odom_tf" in hint
     assert "frame_id parameter" not in hint and "mount" not in hint
     assert "publish the sensor's mount" in found[("sonar_mount",)].hint
+
+
+def _pr2(child: str = "base_footprint") -> Recording:
+    """A PR2 as jsk_pr2eus's pr1012_sensors.bag (2012) has it: amcl's map -> odom_combined, robot_pose_ekf's
+    odom_combined -> ``child``, the base's mounts below."""
+    mounts = TfMessage("/tf_static", START + DELAY, [_t(child, "base_link", START), _t("base_link", "laser", START)])
+    fused = periodic("/robot_pose_ekf", 30, lambda stamp: [_t("odom_combined", child, stamp, 0.1 * _s(stamp))])
+    located = periodic("/amcl", 20, lambda stamp: [_t("map", "odom_combined", stamp)])
+    return recording(sorted([mounts, *fused, *located], key=lambda m: m.record_time), ros1=True)
+
+
+@pytest.mark.parametrize("children", [(), ("base_footprint",)])
+def test_odometry_another_odometry_places_the_robot_beside_is_a_note_not_an_error(children: tuple[str, ...]) -> None:
+    """A real PR2 (jsk_pr2eus's pr1012_sensors.bag): /base_odometry/odom in 'odom', its child_frame_id empty,
+    while robot_pose_ekf sends odom_combined -> base_footprint. An error told to turn the odometry's tf on, which
+    would give base_footprint a second parent: the odometry is the estimate's input, its frame needed by nothing.
+    Its child named and placed from another frame says the same."""
+    odometry = dataclasses.replace(sensor("/base_odometry/odom", "odom", 20, 5_000_000), type="nav_msgs/Odometry")
+    odometry = dataclasses.replace(odometry, children=children)
+    (found,) = [f for f in findings_of(Scene(_pr2(), streams=[odometry])) if f.code == "sensor_frame"]
+    assert found.severity is Severity.info and found.frames == ("odom",)
+    assert re.fullmatch(
+        r"/base_odometry/odom: (\d+) of \1 messages are in frame 'odom', which no transform names", found.message
+    )
+    assert "odom_combined -> base_footprint from /robot_pose_ekf" in found.hint, found.hint
+    assert "second parent" in found.hint and "enable_odom_tf" not in found.hint
+
+
+def test_odometry_whose_child_no_other_odometry_places_is_still_an_error() -> None:
+    """The same tree, the odometry's child another frame than the one robot_pose_ekf places (a second robot's
+    base, say): nothing fuses it, its own tf is missing, as before."""
+    odometry = dataclasses.replace(sensor("/odom", "odom", 20, 5_000_000), type="nav_msgs/Odometry")
+    odometry = dataclasses.replace(odometry, children=("robot2/base_link",))
+    (found,) = [f for f in findings_of(Scene(_pr2(), streams=[odometry])) if f.code == "sensor_frame"]
+    assert found.severity is Severity.error and "enable_odom_tf" in found.hint
 
 
 def test_a_ground_truth_pose_in_map_is_told_it_is_a_pose_in_the_world_not_an_odometry_tf() -> None:
@@ -317,6 +353,7 @@ def test_odometry_in_a_frame_no_transform_names_is_told_so_where_no_tf_static_wa
     (info,) = rec.contents.files
     info.topics["/tf"] = tf_type
     odometry = dataclasses.replace(sensor("/encoder", "odom_combined", 10, 5_000_000), type="nav_msgs/Odometry")
+    odometry = dataclasses.replace(odometry, children=("base_footprint",))  # the bag's, which nothing places
     fix = dataclasses.replace(sensor("/fix", "gps", 2, 5_000_000), type="sensor_msgs/NavSatFix")
     found = {f.frames: f for f in findings_of(Scene(rec, streams=[odometry, fix])) if f.code == "sensor_frame"}
     hint = found[("odom_combined",)].hint

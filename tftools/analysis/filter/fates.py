@@ -38,7 +38,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_unique
-from tftools.analysis.targets import WORLD_FRAMES, is_odometry, world_frame_unpublished, world_pose_unpublished
+from tftools.analysis.frames import tree_of
+from tftools.analysis.targets import (
+    WORLD_FRAMES,
+    fused_edge,
+    is_odometry,
+    odometry_fused,
+    world_frame_unpublished,
+    world_pose_unpublished,
+)
 from tftools.core.arrays import BoolArray, Int8Array, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import TransformError, UnknownFrameError
@@ -578,8 +586,12 @@ class StreamReport:
     # wait or cache bridges; 0 on one clock.
     clock_apart: int = 0
     # What keeps the messages lost to an unknown frame where that frame is REP 105's map or odom (``tfx wtf``'s
-    # words, ``world_frame_unpublished``); "" for other frames.
+    # words, ``world_frame_unpublished``), or odometry's own beside another odometry on tf (``odometry_fused``);
+    # "" for other frames.
     unplaced: str = ""
+    # Odometry whose own frame no transform names while another odometry places the robot on tf (``fused_edge``):
+    # that estimate's input, its frame needed by nothing.
+    fused: bool = False
 
     def wait_made_of(self) -> str:
         """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
@@ -686,17 +698,35 @@ def stream_report(
         before_any_tf=bool(early.any()) and bool((fates.fate[early] == Fate.BEFORE_ANY_TF).all()),
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
         unplaced=_unplaced(buffer, stream, target) if counts[Fate.UNKNOWN_FRAME] else "",
+        fused=bool(counts[Fate.UNKNOWN_FRAME]) and _fused(buffer, stream),
     )
+
+
+def _missing(buffer: Buffer, stream: StampedMessages) -> set[str]:
+    """The frames of ``stream`` no transform names (their base names)."""
+    return {base_name(f) for f in stream.frame_ids if f and not buffer.has_frame(frame_name(f))}
+
+
+def _fused(buffer: Buffer, stream: StampedMessages) -> bool:
+    """Whether ``stream`` is odometry in a frame no transform names, the robot placed on tf by another odometry
+    (``fused_edge``)."""
+    missing = _missing(buffer, stream)
+    if not is_odometry(stream.type) or not missing or missing <= WORLD_FRAMES:
+        return False
+    return fused_edge(tree_of(buffer), missing, stream.children) is not None
 
 
 def _unplaced(buffer: Buffer, stream: StampedMessages, target: str) -> str:
     """``world_frame_unpublished`` of the frames of ``stream`` no transform names (ROS 2's words where its type
     is spelt as ROS 2 spells it); of odometry, ``world_pose_unpublished`` where they are world frames, else ""
     (its own tf's words, ``odometry_tf_unpublished``)."""
-    missing = {base_name(f) for f in stream.frame_ids if f and not buffer.has_frame(frame_name(f))}
+    missing = _missing(buffer, stream)
     if is_odometry(stream.type):
         named = ", ".join(repr(f) for f in sorted(missing))
-        return world_pose_unpublished(named, buffer.has_frame("odom")) if missing <= WORLD_FRAMES else ""
+        if missing <= WORLD_FRAMES:
+            return world_pose_unpublished(named, buffer.has_frame("odom"))
+        edge = fused_edge(tree_of(buffer), missing, stream.children)
+        return odometry_fused(named, edge) if edge is not None else ""
     return world_frame_unpublished(missing, buffer.has_frame("odom"), target, "/msg/" in stream.type) or ""
 
 
