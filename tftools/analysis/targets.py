@@ -7,7 +7,7 @@ from collections.abc import Collection, Sequence
 
 from tftools.analysis.frames import FrameTree
 from tftools.core.frames import base_name, frame_name
-from tftools.sources.contents import StampedMessages
+from tftools.sources.contents import DEFAULT_TOPICS, StampedMessages
 
 #: Why sensor data has no target frame: the recording holds no transform, so no tree (the AUV's and the
 #: Crazyflie's recordings); its target is "" (said as null in JSON: no frame).
@@ -53,18 +53,20 @@ def fused_edge(tree: FrameTree, missing: Collection[str], children: Sequence[str
     """Where odometry in frames ``missing`` that no transform names has the robot placed on tf by another
     odometry (parent, child, its publishers; "" unnamed): its child_frame_id's moving edge from another frame, or,
     where it names no child (a PR2's /base_odometry/odom: child_frame_id empty), the tree's one moving edge from
-    a frame named as odometry's (robot_pose_ekf's odom_combined -> base_footprint); None where neither is."""
+    a frame named as odometry's (robot_pose_ekf's odom_combined -> base_footprint); None where neither is. Its
+    publishers are "" where the recording names none (a ROS 2 bag, a ROS 1 bag without callerids)."""
     gone = {frame_name(f) for f in missing}
 
     def placed(child: str) -> tuple[str, str, str] | None:
         summary = tree.frames.get(frame_name(child))
         if summary is None or summary.parent is None or summary.static or summary.parent in gone:
             return None
-        return summary.parent, summary.frame, ", ".join(summary.authorities)
+        named = [a for a in summary.authorities if a not in DEFAULT_TOPICS]  # a bag naming no node: its topic
+        return summary.parent, summary.frame, ", ".join(named)
 
-    named = [edge for child in children if child and (edge := placed(child)) is not None]
-    if named or any(children):
-        return named[0] if named else None
+    given = [edge for child in children if child and (edge := placed(child)) is not None]
+    if given or any(children):
+        return given[0] if given else None
     odometries = [
         edge
         for name, summary in tree.frames.items()
