@@ -451,6 +451,21 @@ def test_empty_tf_messages_are_counted_where_they_are_read(tmp_path: Path, fmt: 
         )
 
 
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_empty_tf_messages_are_said_whose_where_the_bag_names_their_sender(tmp_path: Path, fmt: BagFormat) -> None:
+    """A real PR2 (jsk_pr2eus's pr1012_sensors.bag): 13 empty /tf messages, all /dynamic_tf_publisher's, which the
+    ROS 1 bag names: the hint said 'rostopic info /tf names them'. A ROS 2 bag names no sender: that hint stays."""
+    messages = healthy()
+    empty = [TfMessage("/tf", START + k * NS_PER_S + 7, [], "/dynamic_tf_publisher") for k in range(3)]
+    empty.append(TfMessage("/tf", START + 5 * NS_PER_S + 7, [], "/amcl"))
+    bag = write(tmp_path, "bag", fmt, sorted(messages + empty, key=lambda m: m.record_time))
+    (found,) = [f for f in check(read_recording([bag])).findings if f.code == "silent_tf"]
+    if fmt is BagFormat.ros1:
+        assert found.hint.startswith("/dynamic_tf_publisher sent 3, /amcl sent 1:"), found.hint
+    else:
+        assert "names them" in found.hint and "/dynamic_tf_publisher" not in found.hint, found.hint
+
+
 def _clock_recorded_from(seconds: float) -> ClockSamples:
     """The simulator's /clock, its first ``seconds`` not recorded (the recorder subscribed to it late)."""
     clock = sim_clock()
