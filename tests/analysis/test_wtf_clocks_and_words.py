@@ -44,7 +44,7 @@ from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
 from tftools.sources import read_recording
-from tftools.sources.contents import ClockSamples
+from tftools.sources.contents import ClockSamples, StampedMessages
 from tftools.sources.recording import Recording
 from tftools.sources.urdf import parse_urdf
 
@@ -253,12 +253,57 @@ def test_odometry_in_a_frame_no_transform_names_is_told_its_tf_is_not_published(
     The missing part is the odometry's own transform, not a sensor mount nor a driver's frame_id."""
     rec = recording(sorted([statics(), *ekf(), *wheels()], key=lambda m: m.record_time), ros1=True)
     odometry = dataclasses.replace(sensor("/odom_enc", "odom_enc", 20, 5_000_000), type="nav_msgs/Odometry")
+    odometry = _stating(odometry, ("base_footprint",))  # the bag's child: placed by no other
     sonar = sensor("/range", "sonar_mount", 10, 5_000_000)  # a mount that is missing: the mount's hint
     found = {f.frames: f for f in findings_of(Scene(rec, streams=[odometry, sonar])) if f.code == "sensor_frame"}
     hint = found[("odom_enc",)].hint
     assert "'odom_enc' is the frame of odometry" in hint and "enable_odom_tf" in hint
     assert "frame_id parameter" not in hint and "mount" not in hint
     assert "publish the sensor's mount" in found[("sonar_mount",)].hint
+
+
+def _stating(stream: StampedMessages, children: tuple[str, ...]) -> StampedMessages:
+    """``stream`` as odometry whose every message states a transform to ``children``' first (as the codec reads
+    nav_msgs/Odometry's child_frame_id), its value not read; ``()``: an empty child_frame_id."""
+    n = len(stream)
+    return dataclasses.replace(
+        stream, child=np.zeros(n, np.int32), pose=np.full((n, 7), np.nan), child_ids=children[:1] or ("",)
+    )
+
+
+def _pr2(child: str = "base_footprint") -> Recording:
+    """A PR2 as jsk_pr2eus's pr1012_sensors.bag (2012) has it: amcl's map -> odom_combined, robot_pose_ekf's
+    odom_combined -> ``child``, the base's mounts below."""
+    mounts = TfMessage("/tf_static", START + DELAY, [_t(child, "base_link", START), _t("base_link", "laser", START)])
+    fused = periodic("/robot_pose_ekf", 30, lambda stamp: [_t("odom_combined", child, stamp, 0.1 * _s(stamp))])
+    located = periodic("/amcl", 20, lambda stamp: [_t("map", "odom_combined", stamp)])
+    return recording(sorted([mounts, *fused, *located], key=lambda m: m.record_time), ros1=True)
+
+
+@pytest.mark.parametrize("children", [(), ("base_footprint",)])
+def test_odometry_another_odometry_places_the_robot_beside_is_a_note_not_an_error(children: tuple[str, ...]) -> None:
+    """A real PR2 (jsk_pr2eus's pr1012_sensors.bag): /base_odometry/odom in 'odom', its child_frame_id empty,
+    while robot_pose_ekf sends odom_combined -> base_footprint. An error told to turn the odometry's tf on, which
+    would give base_footprint a second parent: the odometry is the estimate's input, its frame needed by nothing.
+    Its child named and placed from another frame says the same."""
+    odometry = dataclasses.replace(sensor("/base_odometry/odom", "odom", 20, 5_000_000), type="nav_msgs/Odometry")
+    odometry = _stating(odometry, children)
+    (found,) = [f for f in findings_of(Scene(_pr2(), streams=[odometry])) if f.code == "sensor_frame"]
+    assert found.severity is Severity.info and found.frames == ("odom",)
+    assert re.fullmatch(
+        r"/base_odometry/odom: (\d+) of \1 messages are in frame 'odom', which no transform names", found.message
+    )
+    assert "odom_combined -> base_footprint from /robot_pose_ekf" in found.hint, found.hint
+    assert "second parent" in found.hint and "enable_odom_tf" not in found.hint
+
+
+def test_odometry_whose_child_no_other_odometry_places_is_still_an_error() -> None:
+    """The same tree, the odometry's child another frame than the one robot_pose_ekf places (a second robot's
+    base, say): nothing fuses it, its own tf is missing, as before."""
+    odometry = dataclasses.replace(sensor("/odom", "odom", 20, 5_000_000), type="nav_msgs/Odometry")
+    odometry = _stating(odometry, ("robot2/base_link",))
+    (found,) = [f for f in findings_of(Scene(_pr2(), streams=[odometry])) if f.code == "sensor_frame"]
+    assert found.severity is Severity.error and "enable_odom_tf" in found.hint
 
 
 def test_a_ground_truth_pose_in_map_is_told_it_is_a_pose_in_the_world_not_an_odometry_tf() -> None:
@@ -317,6 +362,7 @@ def test_odometry_in_a_frame_no_transform_names_is_told_so_where_no_tf_static_wa
     (info,) = rec.contents.files
     info.topics["/tf"] = tf_type
     odometry = dataclasses.replace(sensor("/encoder", "odom_combined", 10, 5_000_000), type="nav_msgs/Odometry")
+    odometry = _stating(odometry, ("base_footprint",))  # the bag's, which nothing places
     fix = dataclasses.replace(sensor("/fix", "gps", 2, 5_000_000), type="sensor_msgs/NavSatFix")
     found = {f.frames: f for f in findings_of(Scene(rec, streams=[odometry, fix])) if f.code == "sensor_frame"}
     hint = found[("odom_combined",)].hint
@@ -412,6 +458,21 @@ def test_empty_tf_messages_are_counted_where_they_are_read(tmp_path: Path, fmt: 
         assert found.severity is Severity.info and f"{len(empty):,} of {tf:,} messages on /tf carry no transform" in (
             found.message
         )
+
+
+@pytest.mark.parametrize("fmt", list(BagFormat))
+def test_empty_tf_messages_are_said_whose_where_the_bag_names_their_sender(tmp_path: Path, fmt: BagFormat) -> None:
+    """A real PR2 (jsk_pr2eus's pr1012_sensors.bag): 13 empty /tf messages, all /dynamic_tf_publisher's, which the
+    ROS 1 bag names: the hint said 'rostopic info /tf names them'. A ROS 2 bag names no sender: that hint stays."""
+    messages = healthy()
+    empty = [TfMessage("/tf", START + k * NS_PER_S + 7, [], "/dynamic_tf_publisher") for k in range(3)]
+    empty.append(TfMessage("/tf", START + 5 * NS_PER_S + 7, [], "/amcl"))
+    bag = write(tmp_path, "bag", fmt, sorted(messages + empty, key=lambda m: m.record_time))
+    (found,) = [f for f in check(read_recording([bag])).findings if f.code == "silent_tf"]
+    if fmt is BagFormat.ros1:
+        assert found.hint.startswith("/dynamic_tf_publisher sent 3, /amcl sent 1:"), found.hint
+    else:
+        assert "names them" in found.hint and "/dynamic_tf_publisher" not in found.hint, found.hint
 
 
 def _clock_recorded_from(seconds: float) -> ClockSamples:

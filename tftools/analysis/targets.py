@@ -8,8 +8,8 @@ from collections.abc import Collection, Sequence
 import numpy as np
 
 from tftools.analysis.frames import FrameTree
-from tftools.core.frames import frame_name
-from tftools.sources.contents import StampedMessages
+from tftools.core.frames import base_name, frame_name
+from tftools.sources.contents import DEFAULT_TOPICS, StampedMessages
 
 #: Why sensor data has no target frame: the recording holds no transform, so no tree (the AUV's and the
 #: Crazyflie's recordings); its target is "" (said as null in JSON: no frame).
@@ -57,6 +57,47 @@ def odometry_tf_unpublished(named: str, children: Sequence[str] = ()) -> str:
         f"{named} is the frame of odometry (nav_msgs/Odometry), and its transform to the robot ({child}) is not on "
         "tf: turn on the odometry node's tf (e.g. a controller's enable_odom_tf, a publish_tf parameter), or "
         "record it"
+    )
+
+
+def fused_edge(tree: FrameTree, missing: Collection[str], children: Sequence[str]) -> tuple[str, str, str] | None:
+    """Where odometry in frames ``missing`` that no transform names has the robot placed on tf by another
+    odometry (parent, child, its publishers; "" unnamed): its child_frame_id's moving edge from another frame, or,
+    where it names no child (a PR2's /base_odometry/odom: child_frame_id empty), the tree's one moving edge from
+    a frame named as odometry's (robot_pose_ekf's odom_combined -> base_footprint); None where neither is. Its
+    publishers are "" where the recording names none (a ROS 2 bag, a ROS 1 bag without callerids)."""
+    gone = {frame_name(f) for f in missing}
+
+    def placed(child: str) -> tuple[str, str, str] | None:
+        summary = tree.frames.get(frame_name(child))
+        if summary is None or summary.parent is None or summary.static or summary.parent in gone:
+            return None
+        named = [a for a in summary.authorities if a not in DEFAULT_TOPICS]  # a bag naming no node: its topic
+        return summary.parent, summary.frame, ", ".join(named)
+
+    given = [edge for child in children if child and (edge := placed(child)) is not None]
+    if given or any(children):
+        return given[0] if given else None
+    odometries = [
+        edge
+        for name, summary in tree.frames.items()
+        if summary.parent is not None and "odom" in base_name(summary.parent) and (edge := placed(name)) is not None
+    ]
+    return odometries[0] if len(odometries) == 1 else None
+
+
+def odometry_fused(named: str, edge: tuple[str, str, str]) -> str:
+    """Why odometry in frames ``named`` (worded: ``'odom'``) that no transform names need not be on tf, where
+    another odometry places the robot there (``fused_edge``): it is that estimate's input (a real PR2,
+    jsk_pr2eus's pr1012_sensors.bag: /base_odometry/odom in 'odom' beside robot_pose_ekf's odom_combined ->
+    base_footprint). ``tfx wtf``'s and ``tfx filter``'s words for it."""
+    parent, child, publishers = edge
+    by = f" from {publishers}" if publishers else ""
+    return (
+        f"{named} is this odometry's own frame: the robot's odometry on tf is {parent} -> {child}{by}, another "
+        "estimate this one likely feeds (robot_pose_ekf and robot_localization fuse odometry and send their own): "
+        f"nothing needs {named} on tf, and turning this odometry's tf on would give {child} a second parent; "
+        "read its poses as they are"
     )
 
 

@@ -251,6 +251,9 @@ class SourceInfo:
     fetched: Fetched | None = None  # a recording read by URL: what of it was fetched
     #: Per tf topic read, its messages and how many held no transform, as read (a file's, not metadata.yaml's).
     tf_messages: dict[str, tuple[int, int]] = field(default_factory=dict)
+    #: Per tf topic read, the publishers of its messages that held no transform and how many, where the file names
+    #: them (a ROS 1 bag's connections); empty otherwise.
+    tf_empty_from: dict[str, dict[str, int]] = field(default_factory=dict)
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
     windowed: bool = True

@@ -38,9 +38,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_unique
+from tftools.analysis.frames import tree_of
 from tftools.analysis.targets import (
     WORLD_FRAMES,
+    fused_edge,
     is_odometry,
+    odometry_fused,
     stated_children,
     world_frame_unpublished,
     world_pose_unpublished,
@@ -584,10 +587,14 @@ class StreamReport:
     # wait or cache bridges; 0 on one clock.
     clock_apart: int = 0
     # What keeps the messages lost to an unknown frame where that frame is REP 105's map or odom (``tfx wtf``'s
-    # words, ``world_frame_unpublished``); "" for other frames.
+    # words, ``world_frame_unpublished``), or odometry's own beside another odometry on tf (``odometry_fused``);
+    # "" for other frames.
     unplaced: str = ""
     # The child frames its messages state a transform to (nav_msgs/Odometry's child_frame_id), as they first come.
     children: tuple[str, ...] = ()
+    # Odometry whose own frame no transform names while another odometry places the robot on tf (``fused_edge``):
+    # that estimate's input, its frame needed by nothing.
+    fused: bool = False
 
     def wait_made_of(self) -> str:
         """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
@@ -695,17 +702,35 @@ def stream_report(
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
         unplaced=_unplaced(buffer, stream, target) if counts[Fate.UNKNOWN_FRAME] else "",
         children=stated_children(stream),
+        fused=bool(counts[Fate.UNKNOWN_FRAME]) and _fused(buffer, stream),
     )
+
+
+def _missing(buffer: Buffer, stream: StampedMessages) -> set[str]:
+    """The frames of ``stream`` no transform names (their base names)."""
+    return {base_name(f) for f in stream.frame_ids if f and not buffer.has_frame(frame_name(f))}
+
+
+def _fused(buffer: Buffer, stream: StampedMessages) -> bool:
+    """Whether ``stream`` is odometry in a frame no transform names, the robot placed on tf by another odometry
+    (``fused_edge``)."""
+    missing = _missing(buffer, stream)
+    if not is_odometry(stream.type) or not missing or missing <= WORLD_FRAMES:
+        return False
+    return fused_edge(tree_of(buffer), missing, stated_children(stream)) is not None
 
 
 def _unplaced(buffer: Buffer, stream: StampedMessages, target: str) -> str:
     """``world_frame_unpublished`` of the frames of ``stream`` no transform names (ROS 2's words where its type
     is spelt as ROS 2 spells it); of odometry, ``world_pose_unpublished`` where they are world frames, else ""
     (its own tf's words, ``odometry_tf_unpublished``)."""
-    missing = {base_name(f) for f in stream.frame_ids if f and not buffer.has_frame(frame_name(f))}
+    missing = _missing(buffer, stream)
     if is_odometry(stream.type):
         named = ", ".join(repr(f) for f in sorted(missing))
-        return world_pose_unpublished(named, buffer.has_frame("odom")) if missing <= WORLD_FRAMES else ""
+        if missing <= WORLD_FRAMES:
+            return world_pose_unpublished(named, buffer.has_frame("odom"))
+        edge = fused_edge(tree_of(buffer), missing, stated_children(stream))
+        return odometry_fused(named, edge) if edge is not None else ""
     return world_frame_unpublished(missing, buffer.has_frame("odom"), target, "/msg/" in stream.type) or ""
 
 

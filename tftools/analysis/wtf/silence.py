@@ -278,6 +278,18 @@ def _no_fixed_joint(scene: Scene, tally: TopicTally) -> str | None:
     )
 
 
+def _empty_senders(scene: Scene, tally: TopicTally) -> str:
+    """Who sent a tf topic's empty messages, where its file names them (a ROS 1 bag's connections: a real PR2's 13
+    empty /tf messages all /dynamic_tf_publisher's, jsk_pr2eus's pr1012_sensors.bag), each with how many; "" where
+    the file does not name them all."""
+    file = next((f for f in scene.recording.contents.files if f.path == tally.file), None)
+    senders = file.tf_empty_from.get(tally.topic, {}) if file is not None else {}
+    if sum(senders.values()) != tally.empty:
+        return ""
+    ranked = sorted(senders.items(), key=lambda kv: (-kv[1], kv[0]))
+    return listed([f"{p} sent {n:,}" for p, n in ranked], 3)
+
+
 def _range(shortest: float, longest: float) -> str:
     if duration(shortest) == duration(longest):
         return duration(longest)
@@ -309,6 +321,10 @@ def silent_tf(scene: Scene) -> Iterator[Finding]:
             )
         if tally.empty and fixed_none is not None:
             hints.append(fixed_none)
+        elif tally.empty and (senders := _empty_senders(scene, tally)):
+            hints.append(
+                f"{senders}: a node sending tf messages without transforms has nothing to send; check its setup"
+            )
         elif tally.empty:
             named = scene.list_publishers(tally.topic)
             hints.append(f"a node sending tf messages without transforms is misconfigured: {named} names them")

@@ -118,6 +118,8 @@ class MessageSet:
         self.count = 0
         self.headers_lost: list[str] = []  # once decoded: a line per topic whose headers were lost
         self.tf_messages: dict[str, tuple[int, int]] = {}  # once decoded: per tf topic, its messages and the empty
+        #: once decoded: per tf topic, the publishers of its empty messages (where the file names them) and how many
+        self.tf_empty_from: dict[str, dict[str, int]] = {}
         self.sent = SentMessages.empty()  # once decoded: the tf messages that held a transform
         #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
         #: play`` does): the positions of its messages, sorted, and each one's place in that order.
@@ -413,10 +415,15 @@ class MessageSet:
             held[messages] = True
         held[[message for message, _ in self._failed]] = True  # not read: not known to be empty
         counts: dict[str, tuple[int, int]] = {}
+        self.tf_empty_from = {}
         for i in transforms:
             mine = channel_of == i
-            before = counts.get(self.channels[i].topic, (0, 0))
-            counts[self.channels[i].topic] = (before[0] + int(mine.sum()), before[1] + int((mine & ~held).sum()))
+            topic, publisher, empty = self.channels[i].topic, self.channels[i].publisher, int((mine & ~held).sum())
+            before = counts.get(topic, (0, 0))
+            counts[topic] = (before[0] + int(mine.sum()), before[1] + empty)
+            if empty and publisher:
+                senders = self.tf_empty_from.setdefault(topic, {})
+                senders[publisher] = senders.get(publisher, 0) + empty
         return counts
 
     def _clock(self, times: Int64Array, channel_of: Int32Array, rank: Int64Array) -> ClockSamples:

@@ -114,6 +114,7 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
     problems: list[str] = []
     stamped_problems: list[str] = []
     tf_messages: dict[str, tuple[int, int]] = {}
+    tf_empty_from: dict[str, dict[str, int]] = {}
     times: list[Int64Array] = []
     parts: list[list[StampedMessages]] = []
     for index, scan in enumerate(scans):
@@ -124,6 +125,10 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
         for topic, (messages, empty) in scan.messages.tf_messages.items():
             before = tf_messages.get(topic, (0, 0))
             tf_messages[topic] = (before[0] + messages, before[1] + empty)
+        for topic, senders in scan.messages.tf_empty_from.items():
+            mine = tf_empty_from.setdefault(topic, {})
+            for publisher, empty in senders.items():
+                mine[publisher] = mine.get(publisher, 0) + empty
         batches += decoded
         clocks.append(clock)
         whole += scan.messages.whole
@@ -146,6 +151,7 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
         unread=unread_lines([u for scan in scans for u in scan.skipped]),
         windowed=all(s.windowed for s in scans),
         tf_messages=tf_messages,
+        tf_empty_from=tf_empty_from,
     )
     sent = concat_sent([scan.messages.sent for scan in scans])
     room = scans[0].messages.room if len(scans) == 1 else None  # several: each brought in a part of it
