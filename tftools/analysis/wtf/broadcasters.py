@@ -300,7 +300,7 @@ def _infer(scene: Scene) -> list[Finding]:
             found.append(_replayed_beside(scene, frames, mine, new, clocks))
             continue
         back = _back_and_forth(rows.stamp[new])
-        if back and _rising_chains(rows.stamp[new]) > max(TURNS_PUBLISHERS, _listed_count(scene, mine)):
+        if back and _more_rising_streams(rows.stamp[new], max(TURNS_PUBLISHERS, _listed_count(scene, mine))):
             back = 0  # more publishers than listed would each have to rise: one sends out of order (time_backwards)
         alternating = _alternating(rows.values[new])
         if not (_enough(back, len(new)) or _enough(alternating, len(new))):
@@ -616,16 +616,18 @@ def _listed_count(scene: Scene, mine: IntpArray) -> int:
     return _listed_said(scene, scene.authorities_of(mine))[1] or 0
 
 
-def _rising_chains(stamps: Int64Array) -> int:
-    """The fewest streams of rising stamps ``stamps`` (in arrival order) split into: the longest run of ever earlier
-    stamps among them (patience sorting), as many publishers as would each send in order. A real cart's amcl sends
-    map -> odom for six queued scans at once, in no order (stamps falling six times in a row), after each odometry
-    sample that came at 0.9 Hz: one publisher out of order, not six taking turns."""
-    tails: list[int] = []  # per chain length, the latest possible last stamp of a falling run that long
+def _more_rising_streams(stamps: Int64Array, limit: int) -> bool:
+    """Whether ``stamps`` (in arrival order) need more than ``limit`` streams of rising stamps: a run of ever earlier
+    stamps among them longer than that (patience sorting), more publishers than ``limit`` each sending in order.
+    A real cart's amcl sends map -> odom for six queued scans at once, in no order (six in a row stamped ever
+    earlier), after each odometry sample that came at 0.9 Hz: one publisher out of order, not six taking turns."""
+    tails: list[int] = []  # per run length, the latest possible last stamp of a falling run that long
     for stamp in (-stamps).tolist():
         at = bisect.bisect_left(tails, stamp)
         tails[at : at + 1] = [stamp]
-    return len(tails)
+        if len(tails) > limit:
+            return True
+    return False
 
 
 def _back_and_forth(stamps: Int64Array) -> int:
