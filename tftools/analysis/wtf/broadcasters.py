@@ -18,6 +18,7 @@ apart:
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import itertools
 import math
@@ -44,6 +45,9 @@ from tftools.core.time import NS_PER_S
 #: A sign must show in this many samples, and this share of them, to tell two broadcasters.
 TURNS_MIN = 5
 TURNS_SHARE = 0.1
+#: Publishers taking turns whose stamps may go back where the recording lists fewer (one started after recording
+#: began): stamps needing more rising streams than this, and than those listed, are one publisher's, out of order.
+TURNS_PUBLISHERS = 2
 #: Two values this far apart (m, degrees) are two places; coming back within a quarter of it, the same one.
 APART_M = 0.01
 APART_DEG = 1.0
@@ -296,6 +300,8 @@ def _infer(scene: Scene) -> list[Finding]:
             found.append(_replayed_beside(scene, frames, mine, new, clocks))
             continue
         back = _back_and_forth(rows.stamp[new])
+        if back and _more_rising_streams(rows.stamp[new], max(TURNS_PUBLISHERS, _listed_count(scene, mine))):
+            back = 0  # more publishers than listed would each have to rise: one sends out of order (time_backwards)
         alternating = _alternating(rows.values[new])
         if not (_enough(back, len(new)) or _enough(alternating, len(new))):
             continue
@@ -603,6 +609,25 @@ def _ms(ns: float) -> str:
     if ns < 1e6:
         return f"{ns / 1e3:.0f} us"
     return f"{ns / 1e6:.1f} ms" if ns < NS_PER_S else duration(ns / NS_PER_S)
+
+
+def _listed_count(scene: Scene, mine: IntpArray) -> int:
+    """How many publishers of ``mine``'s topics the recording lists (0 where no file says)."""
+    return _listed_said(scene, scene.authorities_of(mine))[1] or 0
+
+
+def _more_rising_streams(stamps: Int64Array, limit: int) -> bool:
+    """Whether ``stamps`` (in arrival order) need more than ``limit`` streams of rising stamps: a run of ever earlier
+    stamps among them longer than that (patience sorting), more publishers than ``limit`` each sending in order.
+    A real cart's amcl sends map -> odom for six queued scans at once, in no order (six in a row stamped ever
+    earlier), after each odometry sample that came at 0.9 Hz: one publisher out of order, not six taking turns."""
+    tails: list[int] = []  # per run length, the latest possible last stamp of a falling run that long
+    for stamp in (-stamps).tolist():
+        at = bisect.bisect_left(tails, stamp)
+        tails[at : at + 1] = [stamp]
+        if len(tails) > limit:
+            return True
+    return False
 
 
 def _back_and_forth(stamps: Int64Array) -> int:

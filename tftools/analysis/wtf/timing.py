@@ -9,7 +9,7 @@ import numpy as np
 
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import inferred_edges, sent_before
+from tftools.analysis.wtf.broadcasters import APART_DEG, APART_M, apart, inferred_edges, sent_before
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
@@ -372,10 +372,14 @@ def _rhythm(
 
 def _steady(stamps: Int64Array) -> bool:
     """Whether samples are stamped at a steady rate (``_off_share`` of their intervals at most
-    IRREGULAR_SHARE): a real robot's odometry stamped exactly 0.100 s apart but received over Wi-Fi in
-    bursts (intervals of 0 to 0.86 s) publishes regularly, and interpolation between its samples is fine."""
+    IRREGULAR_SHARE), or in a steady cycle (``_cyclic``): a real robot's odometry stamped exactly 0.100 s apart but
+    received over Wi-Fi in bursts (intervals of 0 to 0.86 s) publishes regularly, and interpolation between its
+    samples is fine; so does a real cart's amcl, stamping map -> odom from its lidar's scans (0.13, 0.13, 0.13 then
+    0.26 s apart, over and over) but sending them in bursts once its odometry came (0.9 Hz)."""
     intervals: Int64Array = np.diff(np.unique(stamps)).astype(np.int64)
-    return len(intervals) >= IRREGULAR_MIN_INTERVALS and _off_share(intervals) <= IRREGULAR_SHARE
+    if len(intervals) < IRREGULAR_MIN_INTERVALS:
+        return False
+    return _off_share(intervals) <= IRREGULAR_SHARE or _cyclic(intervals)
 
 
 def _off_share(intervals: Int64Array, step: int = 0, usual: int | None = None) -> float:
@@ -589,15 +593,35 @@ def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: Boo
         )
     else:
         severity = Severity.warning
+        stepped = _stepped_back(scene.rows.values[mine], scene.rows.stamp[mine], back)
+        copes = "tf2 sorts them into its cache, so lookups cope, but " if not stepped else ""
         hint = (
-            "tf2 sorts them into its cache, so lookups cope, but something reorders them: the publisher stamps "
-            "before it sends from several threads, or the link reorders; stamp and send in order"
+            f"{copes}something reorders them: the publisher stamps before it sends from several threads, works "
+            "through inputs it queued in no order (a localizer's scans held until a late transform came), or the "
+            "link reorders; stamp and send in order"
         )
         message = (
             f"{name}{by}: {transforms(len(offenders))} arrived out of order, stamped up to "
-            f"{duration(largest / NS_PER_S)} before one already received, first at {first}"
+            f"{duration(largest / NS_PER_S)} before one already received, first at {first}{stepped}"
         )
     return scene.finding(severity, "time_backwards", message, hint, frames, offenders)
+
+
+def _stepped_back(values: FloatArray, stamps: Int64Array, back: BoolArray) -> str:
+    """Where samples that arrived out of order (``back``, of one publisher's stream in arrival order) carry another
+    value than the newest-stamped one received before them (further apart than two places, 1 cm or 1 degree): how
+    many, how far, and what follows; empty where each repeats it. A real cart's amcl sent map -> odom for six queued
+    scans in no order, its estimate changing among them: tf2 sorts the newer value before the older one."""
+    newest = np.maximum.accumulate(np.where(stamps == np.maximum.accumulate(stamps), np.arange(len(stamps)), 0))
+    metres, degrees = apart(values[newest[back]], values[back])
+    other = (metres > APART_M) | (degrees > APART_DEG)
+    if not other.any():
+        return ""
+    return (
+        f"; {int(other.sum())} of them carry another value than the one already stamped after them (up to "
+        f"{float(metres[other].max()):.3f} m and {float(degrees[other].max()):.1f}°): tf2 sorts each before that "
+        "one, so lookups between their stamps go from the newer value back to the older"
+    )
 
 
 def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same: bool) -> Finding:
