@@ -19,15 +19,17 @@ from tftools.sources.storage.source import ByteSource, FileBytes
 class Damage:
     """Chunks (or bytes between them) that could not be read: how many, the first, messages lost."""
 
-    __slots__ = ("first", "lost", "lost_known", "places")
+    __slots__ = ("doubtful", "first", "lost", "lost_known", "places")
 
     def __init__(self) -> None:
         self.places = 0
         self.first = ""
         self.lost = 0
         self.lost_known = True  # the index says how many messages each chunk held
+        self.doubtful = False  # messages were read of a chunk decompressed past damage
 
-    def note(self, pos: int, reason: str, lost: int | None) -> None:
+    def note(self, pos: int, reason: str, lost: int | None, *, doubtful: bool = False) -> None:
+        self.doubtful |= doubtful
         self.places += 1
         self.first = self.first or f"first at byte {pos}: {reason}"
         if lost is None:
@@ -122,7 +124,11 @@ class BagFile:
             lost = f"{d.lost} {kind} lost"
         else:
             lost = f"at least {d.lost} {kind} lost" if d.lost else f"the {kind} there are lost"
-        self.scan.note_problem(f"{self.name}: {what} could not be read ({d.first}); {lost}")
+        doubt = f"; the {kind} read of a damaged chunk may hold a wrong value" if d.doubtful else ""
+        if d.lost_known and not d.lost:  # a chunk decompressed past damage, every message of it still parsing
+            self.scan.note_problem(f"{self.name}: {what} found ({d.first}); no {kind} lost{doubt}")
+            return
+        self.scan.note_problem(f"{self.name}: {what} could not be read ({d.first}); {lost}{doubt}")
 
 
 def _recorded(c: Connection) -> Recorded:

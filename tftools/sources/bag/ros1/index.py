@@ -197,8 +197,9 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         messages, _, first_error = locate(data, in_chunk(offsets, ordinal, len(data)), follow=True)
     got = int(bag.add(data, messages).sum())
     bag.release(info.pos, record.data_end)
-    if got < wanted:
-        bag.damage.note(info.pos, unpacked.loss or first_error or "its index points at no message", wanted - got)
+    if got < wanted or unpacked.loss:  # a chunk decompressed past damage may give every message, some wrong
+        reason = unpacked.loss or first_error or "its index points at no message"
+        bag.damage.note(info.pos, reason, wanted - got, doubtful=bool(unpacked.loss) and got > 0)
 
 
 def _wanted(bag: BagFile, spans: Spans) -> BoolArray:

@@ -102,14 +102,14 @@ class _Scanner:
         except CompressionUnavailableError as e:
             bag.damage.note(chunk.pos, str(e), None)
             return end
+        read = self._messages(unpacked.data)
         if unpacked.loss and chunk.data_end <= stop:
-            bag.damage.note(chunk.pos, unpacked.loss, None)
-        self._messages(unpacked.data)
+            bag.damage.note(chunk.pos, unpacked.loss, None, doubtful=read > 0)
         bag.release(chunk.pos, end)
         return end
 
-    def _messages(self, data: bytes | memoryview) -> None:
-        """The messages of a chunk's records (every one counted; the wanted ones kept)."""
+    def _messages(self, data: bytes | memoryview) -> int:
+        """The messages of a chunk's records (every one counted; the wanted ones kept); how many there are."""
         bag = self.bag
         messages, connections, _ = locate(data, walk(data, self.chunk_ordinal), follow=False)
         self.chunk_ordinal += 1
@@ -118,6 +118,7 @@ class _Scanner:
         if len(messages):
             bag.scan.note_times(int(messages.time.min()), int(messages.time.max()), len(messages))
         bag.add(data, messages)
+        return len(messages)
 
     def _resync(self, pos: int, stop: int) -> int | None:
         """Where the next readable chunk record begins after damage at ``pos``."""
