@@ -457,7 +457,7 @@ def test_a_damaged_chunk_loses_its_messages_only(
     else:  # lz4: the sequences before the damage are exact (before, the chunk's messages were all lost)
         assert len(read_in_chunk) > len(in_chunk) // 2
         assert line.startswith(f"damaged.bag: a damaged part found (first at byte {info.pos}: lz4 data damaged")
-        assert line.endswith("; the transform messages read of a damaged chunk may hold a wrong value")
+        assert line.endswith("; of a damaged chunk, the transform messages read may hold a wrong value")
 
 
 def test_a_damaged_message_header_loses_that_message(

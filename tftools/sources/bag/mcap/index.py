@@ -99,6 +99,7 @@ def _read_chunks(
         except DamageError as e:
             lost[number] = str(e)
             misplaced += e.offset == chunk.offset
+            channels.result.damaged.append((chunk.message_start, chunk.message_end))
 
     ranged = RangedReader(source, channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
     indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels), channels)]
@@ -221,6 +222,7 @@ def _read_chunk(
             if not read:
                 raise DamageError(damage or walked)
             salvaged.note(damage or walked, read, None)
+            channels.result.damaged.append((chunk.message_start, chunk.message_end))
         return
     if index is None:
         index = source.read(chunk.end, chunk.end + chunk.index_length)
@@ -237,6 +239,7 @@ def _read_chunk(
     if damage:
         read = int(np.count_nonzero(fits))
         salvaged.note(damage, read, len(fits) - read)
+        channels.result.damaged.append((chunk.message_start, chunk.message_end))
 
 
 def _message_index(index: bytes, at: int) -> bytes:

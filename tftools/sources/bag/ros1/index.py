@@ -175,11 +175,11 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         record = _record(bag, info.pos, OP_CHUNK)
         chunk = read_chunk(record)
     except DamageError as e:
-        bag.damage.note(info.pos, str(e), wanted)
+        bag.damage.note(info.pos, str(e), wanted, span=(info.start, info.end))
         return
     index = _chunk_index(bag, record, info)
     if chunk.compression == "none" and index is not None:
-        gathered.add(bag, _Pending(ordinal, wanted, index, chunk))
+        gathered.add(bag, _Pending(ordinal, wanted, index, chunk, (info.start, info.end)))
         return
     indexed = None if index is None else _indexed([index])  # read before the index's pages are let go
     bag.release(info.pos, record.data_start if index is None else index.end)
@@ -199,7 +199,9 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     bag.release(info.pos, record.data_end)
     if got < wanted or unpacked.loss:  # a chunk decompressed past damage may give every message, some wrong
         reason = unpacked.loss or first_error or "its index points at no message"
-        bag.damage.note(info.pos, reason, wanted - got, doubtful=bool(unpacked.loss) and got > 0)
+        bag.damage.note(
+            info.pos, reason, wanted - got, doubtful=bool(unpacked.loss) and got > 0, span=(info.start, info.end)
+        )
 
 
 def _wanted(bag: BagFile, spans: Spans) -> BoolArray:
@@ -252,9 +254,10 @@ def _indexed(indexes: list[_Index]) -> Spans:
 class _Pending:
     """An uncompressed chunk whose wanted records wait to be read."""
 
-    __slots__ = ("chunk", "index", "ordinal", "wanted")
+    __slots__ = ("chunk", "index", "ordinal", "span", "wanted")
 
-    def __init__(self, ordinal: int, wanted: int, index: _Index, chunk: Chunk) -> None:
+    def __init__(self, ordinal: int, wanted: int, index: _Index, chunk: Chunk, span: tuple[int, int]) -> None:
+        self.span = span  # its messages' record times, first and last, as its chunk info says
         self.ordinal = ordinal
         self.wanted = wanted  # messages, as its chunk info counts them
         self.index = index
@@ -305,4 +308,5 @@ class _Gathered:
         for pending, count in zip(chunks, got.tolist(), strict=True):
             if count < pending.wanted:
                 lost = pending.wanted - count
-                bag.damage.note(pending.chunk.pos, first_error or "its index points at no message", lost)
+                reason = first_error or "its index points at no message"
+                bag.damage.note(pending.chunk.pos, reason, lost, span=pending.span)
