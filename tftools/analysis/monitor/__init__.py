@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -73,6 +73,9 @@ class MonitorReport:
     #: The recording names no publishers (a ROS 2 bag; a ROS 1 bag without callerids): each authority is the topic
     #: its transforms came on, not a node.
     unnamed: bool = False
+    #: The edges (parent, child) whose largest gap spans a part of the file that is damaged (``SourceInfo.damaged``):
+    #: transforms lost there, not a pause of their publisher.
+    damaged_gaps: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -98,7 +101,28 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     report = monitor_buffer(
         buffer, query.target, query.source, window, unstored=recording.refused, sent=recording.contents.sent
     )
-    return dataclasses.replace(report, unnamed=not publishers_named(recording))
+    return dataclasses.replace(
+        report, unnamed=not publishers_named(recording), damaged_gaps=_damaged_gaps(recording, report.edges)
+    )
+
+
+def _damaged_gaps(recording: Recording, edges: Sequence[EdgeStats]) -> tuple[tuple[str, str], ...]:
+    """The edges whose largest gap overlaps a damaged part of a file (its record times on the stamps' clock)."""
+    spans = [span for source in recording.contents.files for span in source.damaged]
+    if not spans:
+        return ()
+    ros, known = recording.timeline.ros_time(np.array(spans, np.int64).ravel())
+    pairs = zip(ros[0::2].tolist(), ros[1::2].tolist(), (known[0::2] & known[1::2]).tolist(), strict=True)
+    on_stamps = [(a, b) for a, b, k in pairs if k]
+    return tuple(
+        e.key
+        for e in edges
+        if not e.static
+        and e.longest_interval
+        and any(
+            e.longest_interval_start <= b and a <= e.longest_interval_start + e.longest_interval for a, b in on_stamps
+        )
+    )
 
 
 def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | None, int | None]:

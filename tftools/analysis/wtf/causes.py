@@ -91,6 +91,20 @@ def _during(cause: Finding, finding: Finding) -> bool:
     )
 
 
+#: How far (s) around the record times of a file's damaged parts a pause or a bad value is put down to them, at
+#: least: a pause of tf begins with the last sample read before them and ends with the first after.
+DAMAGE_REACH_S = 1.0
+
+
+def _in_the_damage(cause: Finding, finding: Finding) -> bool:
+    """A pause, stop or bad value of tf within the span of a file's damaged parts (widened by as much, and at
+    least ``DAMAGE_REACH_S``): the messages lost or read from damaged bytes there, not the robot."""
+    if not cause.last_time or not finding.first_time:
+        return False
+    reach = max(cause.last_time - cause.first_time, int(DAMAGE_REACH_S * 1e9))
+    return cause.first_time - reach <= finding.first_time and finding.last_time <= cause.last_time + reach
+
+
 def _its_parents_by_topic(cause: Finding, finding: Finding) -> bool:
     """A frame sent on /tf_static and on /tf under parents the cause found it under (its frame, then those)."""
     return finding.frames[:1] == cause.frames[:1] and set(finding.frames[1:]) <= set(cause.frames[1:])
@@ -187,6 +201,13 @@ class Rule:
 
 #: A finding that follows from one that follows from another is said beneath the first (the root cause).
 RULES = (
+    Rule(
+        frozenset({"bag_problem"}),
+        frozenset({"stall", "rate", "stale", "invalid_values", "jump", "time_backwards"}),
+        _in_the_damage,
+        "pauses, stops and bad values of tf where the file is damaged: its messages there were lost, or read "
+        "from damaged bytes, said once with the damage",
+    ),
     Rule(
         frozenset({"static_conflict", "dynamic_on_static"}),
         frozenset({"urdf_moved", "urdf_parent", "urdf_missing"}),

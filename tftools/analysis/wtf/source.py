@@ -68,14 +68,23 @@ def bag_problem(scene: Scene) -> Iterator[Finding]:
                 line,
                 "the findings cover the other topics: convert this one to a type and encoding tfx reads to check it",
             )
-    for problem in (p for f in contents.files for p in f.problems):
-        yield Finding(
-            Severity.warning,
-            "bag_problem",
-            problem,
-            "the findings cover only what could be read: repair the bag as the problem says, or copy it again "
-            "if it was cut short",
+    for source in contents.files:
+        # the damaged parts' span, on the clock of the findings it explains (``causes``), on its first line
+        first, last = (
+            scene.ros_times([min(s for s, _ in source.damaged), max(e for _, e in source.damaged)])
+            if source.damaged
+            else (0, 0)
         )
+        for n, problem in enumerate(source.problems):
+            yield Finding(
+                Severity.warning,
+                "bag_problem",
+                problem,
+                "the findings cover only what could be read: repair the bag as the problem says, or copy it again "
+                "if it was cut short",
+                first_time=first if not n else 0,
+                last_time=last if not n else 0,
+            )
 
 
 declare("unreadable", Severity.error, "a bag that could not be read at all")
