@@ -106,8 +106,8 @@ def zstd(
     limit, cap = allowed(declared, budget, most)
     out, loss = _zstd_read(data, limit, _OUT_PIECE)
     if loss:  # again in small pieces, unchecked: a read that fails gives nothing of its piece
-        again, _ = _zstd_read(_unchecked(data), limit, _DAMAGED_PIECE)
-        out = again if len(again) > len(out) else out
+        del out[:]  # not held beside the second read (memory)
+        out, _ = _zstd_read(_unchecked(data), limit, _DAMAGED_PIECE)
     return _ended("zstd", out, declared, limit, cap, loss, budget)
 
 
