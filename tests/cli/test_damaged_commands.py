@@ -70,6 +70,34 @@ def test_monitor_says_a_gap_the_file_lost_is_not_a_pause(tfx: Tfx, tmp_path: Pat
     assert not any(e["gap_in_damage"] for e in whole)
 
 
+def test_a_pause_beside_a_lost_stretch_keeps_its_own_finding_and_says_where_the_file_lost(
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+) -> None:
+    """The Nav2 TurtleBot 4 written again with lz4 chunks (simulated time, no /clock), 16 bytes overwritten at 45%:
+    20.8 s of its tf lost with the chunk's end, beside the simulation's own 1.5-2.3 s stall at +40.8 s. The stall
+    check says both as one finding ('2 times'): it stays on its own (the real stall is not put down to the damage)
+    and says where the file lost its transforms; each edge's rate finding too; monitor says each largest gap is the
+    file's (before: 'for 1.5 s to 20.8 s ... everything on /tf stopped at once', not a word of the damage)."""
+    from mcap.writer import CompressionType
+
+    from tests.corpus.variants import rewrite_mcap
+
+    bag = rewrite_mcap(
+        copied("ros2_mcap_nav2_turtlebot4.mcap", tmp_path), tmp_path / "lz4.mcap", compression=CompressionType.LZ4
+    )
+    _overwritten(bag, 0.45)
+    findings = _json(tfx, "wtf", "-b", bag)["bags"][0]["findings"]
+    (stall,) = [f for f in findings if f["code"] == "stall"]
+    assert not stall["cause"] and "2 times" in stall["message"]
+    said = "(the file is damaged there: its transforms from 977.022 (+48.2 s) to 997.740 (+68.9 s) were lost)"
+    assert stall["message"].endswith(said)
+    rates = [f for f in findings if f["code"] == "rate"]
+    assert len(rates) == 4 and all(f["message"].endswith(said) for f in rates)
+    edges = _json(tfx, "monitor", "-b", bag)["edges"]
+    assert sorted(e["child"] for e in edges if e["gap_in_damage"]) == ["base_link", "left_wheel", "odom", "right_wheel"]
+
+
 def _cut_at(share: float) -> Callable[[Path], None]:
     def damage(path: Path) -> None:
         cut(path, int(path.stat().st_size * share))

@@ -107,22 +107,19 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
 
 
 def _damaged_gaps(recording: Recording, edges: Sequence[EdgeStats]) -> tuple[tuple[str, str], ...]:
-    """The edges whose largest gap overlaps a damaged part of a file (its record times on the stamps' clock)."""
+    """The edges whose largest gap overlaps a damaged part of a file: the record times of the samples that begin and
+    end it against the parts' (``SourceInfo.damaged``), on the record clock both are on."""
     spans = [span for source in recording.contents.files for span in source.damaged]
-    if not spans:
-        return ()
-    ros, known = recording.timeline.ros_time(np.array(spans, np.int64).ravel())
-    pairs = zip(ros[0::2].tolist(), ros[1::2].tolist(), (known[0::2] & known[1::2]).tolist(), strict=True)
-    on_stamps = [(a, b) for a, b, k in pairs if k]
-    return tuple(
-        e.key
-        for e in edges
-        if not e.static
-        and e.longest_interval
-        and any(
-            e.longest_interval_start <= b and a <= e.longest_interval_start + e.longest_interval for a, b in on_stamps
-        )
-    )
+    out = []
+    for e in edges if spans else ():
+        hist = recording.buffer.history(e.child)
+        if e.static or not e.longest_interval or hist is None or not len(hist.stamps):
+            continue
+        at = min(int(np.searchsorted(hist.stamps, e.longest_interval_start)), len(hist.stamps) - 1)
+        first, last = int(hist.record_times[at]), int(hist.record_times[min(at + 1, len(hist.stamps) - 1)])
+        if any(first <= b and a <= last for a, b in spans):
+            out.append(e.key)
+    return tuple(out)
 
 
 def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | None, int | None]:

@@ -91,17 +91,22 @@ def _during(cause: Finding, finding: Finding) -> bool:
     )
 
 
-#: How far (s) around the record times of a file's damaged parts a pause or a bad value is put down to them, at
-#: least: a pause of tf begins with the last sample read before them and ends with the first after.
-DAMAGE_REACH_S = 1.0
+#: How far (s) around the span of a file's lost messages a pause or a bad value is put down to them, at least, and
+#: what share of that span further: a pause of tf begins with the last sample read before them and ends with the
+#: first after (a slow publisher's a period away), no further (a real pause just before is the robot's).
+DAMAGE_REACH_S, DAMAGE_REACH_SHARE = 1.0, 0.1
 
 
-def _in_the_damage(cause: Finding, finding: Finding) -> bool:
-    """A pause, stop or bad value of tf within the span of a file's damaged parts (widened by as much, and at
-    least ``DAMAGE_REACH_S``): the messages lost or read from damaged bytes there, not the robot."""
+#: What a file's damage may explain (``in_the_damage``).
+IN_DAMAGE = frozenset({"stall", "rate", "stale", "invalid_values", "jump", "time_backwards"})
+
+
+def in_the_damage(cause: Finding, finding: Finding) -> bool:
+    """A pause, stop or bad value of tf within the span of a file's lost messages (``DAMAGE_REACH_S``): lost or
+    read from damaged bytes there, not the robot's."""
     if not cause.last_time or not finding.first_time:
         return False
-    reach = max(cause.last_time - cause.first_time, int(DAMAGE_REACH_S * 1e9))
+    reach = max(int(DAMAGE_REACH_SHARE * (cause.last_time - cause.first_time)), int(DAMAGE_REACH_S * 1e9))
     return cause.first_time - reach <= finding.first_time and finding.last_time <= cause.last_time + reach
 
 
@@ -203,8 +208,8 @@ class Rule:
 RULES = (
     Rule(
         frozenset({"bag_problem"}),
-        frozenset({"stall", "rate", "stale", "invalid_values", "jump", "time_backwards"}),
-        _in_the_damage,
+        IN_DAMAGE,
+        in_the_damage,
         "pauses, stops and bad values of tf where the file is damaged: its messages there were lost, or read "
         "from damaged bytes, said once with the damage",
     ),

@@ -239,7 +239,9 @@ def _read_chunk(
     if damage:
         read = int(np.count_nonzero(fits))
         salvaged.note(damage, read, len(fits) - read)
-        channels.result.damaged.append((chunk.message_start, chunk.message_end))
+        if read < len(fits):  # the stretch of the messages lost (a pause there is the file's)
+            lost = every.time[~fits]
+            channels.result.damaged.append((int(lost.min()), int(lost.max())))
 
 
 def _message_index(index: bytes, at: int) -> bytes:

@@ -199,9 +199,16 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
     bag.release(info.pos, record.data_end)
     if got < wanted or unpacked.loss:  # a chunk decompressed past damage may give every message, some wrong
         reason = unpacked.loss or first_error or "its index points at no message"
-        bag.damage.note(
-            info.pos, reason, wanted - got, doubtful=bool(unpacked.loss) and got > 0, span=(info.start, info.end)
-        )
+        listed = None if indexed is None else indexed.rows(_wanted(bag, indexed))
+        span = (info.start, info.end) if listed is None else lost_span(listed.time, listed.offset, messages.offset)
+        bag.damage.note(info.pos, reason, wanted - got, doubtful=bool(unpacked.loss) and got > 0, span=span)
+
+
+def lost_span(times: Int64Array, listed: Int64Array, read: Int64Array) -> tuple[int, int] | None:
+    """The record times, first and last, of the messages an index lists (``times``, at ``listed``) that were not
+    read (none at ``read``): where a damaged chunk lost them; None when every one was read."""
+    lost = times[~np.isin(listed, read)]
+    return (int(lost.min()), int(lost.max())) if len(lost) else None
 
 
 def _wanted(bag: BagFile, spans: Spans) -> BoolArray:
@@ -305,8 +312,12 @@ class _Gathered:
         messages, _, first_error = locate(data.data, records, follow=True, cut=cut)
         in_batch, messages.chunk = messages.chunk, np.array([c.ordinal for c in chunks], np.int64)[messages.chunk]
         got = np.bincount(in_batch[bag.add(data.data, messages)], minlength=len(chunks))
-        for pending, count in zip(chunks, got.tolist(), strict=True):
+        keys = records.chunk * (1 << 40) + records.offset  # each record's chunk in the batch and place in it
+        found = np.isin(keys, in_batch * (1 << 40) + messages.offset)
+        for i, (pending, count) in enumerate(zip(chunks, got.tolist(), strict=True)):
             if count < pending.wanted:
                 lost = pending.wanted - count
                 reason = first_error or "its index points at no message"
-                bag.damage.note(pending.chunk.pos, reason, lost, span=pending.span)
+                mine = records.chunk == i
+                span = lost_span(records.time[mine], keys[mine], keys[mine][found[mine]]) or pending.span
+                bag.damage.note(pending.chunk.pos, reason, lost, span=span)
