@@ -27,7 +27,7 @@ STATIC = {"base_link", "laser", "imu_link", "camera_link", "camera_optical_frame
 PUBLISHER_RATES = {"/amcl": 10, "/ekf_localization": 50, "/robot_state_publisher": 30, "/arm/robot_state_publisher": 50}
 
 EDGE_KEYS = {"parent", "child", "authorities", "count", "rate_hz", "jitter_s", "gap_max_s", "gap_start", "silent_s",
-             "delay_mean_s", "delay_max_s", "delay_unmeasurable", "static", "sightings", "first_stamp",
+             "gap_in_damage", "delay_mean_s", "delay_max_s", "delay_unmeasurable", "static", "sightings", "first_stamp",
              "last_stamp"}  # fmt: skip
 SAMPLES = list(SAMPLE_BAGS)
 MS_NS = 1_000_000

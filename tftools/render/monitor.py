@@ -193,6 +193,7 @@ def renderable(
     parts += [
         Text(""),
         _edges(edges, report.other_clock, report.unnamed),
+        *_damaged_gaps(edges, report.damaged_gaps),
         *_silences(edges),
         *_sightings(edges),
         Text(""),
@@ -232,6 +233,23 @@ def beyond_edges(a: AuthorityStats) -> str:
 def _beyond_edges(authorities: Sequence[AuthorityStats]) -> list[Text]:
     """A line for each publisher whose delay is over more than its frames' (``beyond_edges``)."""
     return [Text(printable(said), style="dim") for a in authorities if (said := beyond_edges(a))]
+
+
+def _damaged_gaps(edges: Sequence[EdgeStats], damaged: Sequence[tuple[str, str]]) -> list[Text]:
+    """A line for each edge whose largest gap spans a damaged part of the file (``MonitorReport.damaged_gaps``):
+    the file lost its transforms there; the gap is not its publisher's."""
+    return [
+        Text(
+            printable(
+                f"{e.parent} -> {e.child}: its largest gap ({_sec(e.longest_interval)} s from "
+                f"{to_sec(e.longest_interval_start):.3f}) spans a damaged part of the file: transforms lost there, "
+                "not a pause of its publisher"
+            ),
+            style="yellow",
+        )
+        for e in edges
+        if e.key in damaged
+    ]
 
 
 def _silences(edges: Sequence[EdgeStats]) -> list[Text]:
@@ -275,7 +293,7 @@ def sightings_dict(seen: Sightings | None) -> dict[str, Any] | None:
     }
 
 
-def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
+def _edge_dict(e: EdgeStats, other_clock: Sequence[str], damaged: Sequence[tuple[str, str]] = ()) -> dict[str, Any]:
     return {
         "parent": e.parent,
         "child": e.child,
@@ -285,6 +303,7 @@ def _edge_dict(e: EdgeStats, other_clock: Sequence[str]) -> dict[str, Any]:
         "jitter_s": None if _no_rhythm(e) else seconds(e.jitter),
         "gap_max_s": None if e.static or _no_gap(e) else seconds(e.longest_interval),
         "gap_start": None if e.static or _no_gap(e) else to_sec(e.longest_interval_start),
+        "gap_in_damage": e.key in damaged,  # the largest gap spans a damaged part of the file
         "silent_s": None if e.static or e.silent_for is None else seconds(e.silent_for),
         "delay_mean_s": seconds(e.delay_mean),
         "delay_max_s": seconds(e.delay_max),
@@ -328,7 +347,7 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
             "start": to_sec(report.start) if report.start is not None else None,
             "end": to_sec(report.end) if report.end is not None else None,
         },
-        "edges": [_edge_dict(e, report.other_clock) for e in report.edges],
+        "edges": [_edge_dict(e, report.other_clock, report.damaged_gaps) for e in report.edges],
         "authorities": [_authority_dict(a) for a in report.authorities],
         "publishers_named": not report.unnamed,  # false: each authority is the topic its transforms came on
         "delays_unavailable": report.delays_unavailable or None,  # why delays are null, where they all are
@@ -340,7 +359,7 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
             "target": chain.target,
             "source": chain.source,
             "frames": list(chain.frames),
-            "edges": [_edge_dict(e, report.other_clock) for e in chain.edges],
+            "edges": [_edge_dict(e, report.other_clock, report.damaged_gaps) for e in chain.edges],
             # not its edges' delay_mean_s: how far its newest common stamp is behind, over time (``NET_DELAY``)
             "net_delay_mean_s": seconds(chain.delay_mean),
             "net_delay_max_s": seconds(chain.delay_max),

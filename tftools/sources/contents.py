@@ -257,6 +257,9 @@ class SourceInfo:
     # False: a file read whole, for want of an index (a bag never closed, an MCAP without summary, a
     # file compressed whole, a damaged .db3): a record-time window of it costs the whole file.
     windowed: bool = True
+    #: Record-time spans (ns, first and last) of the parts whose messages were lost or read from damaged bytes:
+    #: a pause of tf there is the file's, not the robot's.
+    damaged: list[tuple[int, int]] = field(default_factory=list)
 
     @property
     def live(self) -> bool:

@@ -6,18 +6,32 @@ from __future__ import annotations
 
 import os
 import sqlite3
+import struct
 from contextlib import closing
 from pathlib import Path
 from typing import Any
 
 import pytest
+from mcap.writer import CompressionType
 
 from tests.sources.bag.damaged import copied, cut, rows
 from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import Other, varied_messages, write_rosbag2
+from tftools.sources.bag.mcap.index import summary_of
+from tftools.sources.bag.mcap.records import ChunkIndex
+from tftools.sources.bag.ros1.records import (
+    OP_CHUNK,
+    OP_CONNECTION,
+    OP_MESSAGE,
+    read_bag_header,
+    read_chunk,
+    read_connection,
+    read_record,
+)
 from tftools.sources.bag.rosbag2.db3 import cut_short
 from tftools.sources.bag.rosbag2.db3_salvage import salvage, salvage_topics
 from tftools.sources.errors import CorruptBagError, UnreadableFileError
+from tftools.sources.storage.source import FileSource
 
 # A .db3 that ends inside a page: sqlite reads the missing bytes as zeros and the message there as whole.
 
@@ -202,3 +216,202 @@ def test_the_pages_of_a_damaged_db3_give_a_header_topics_messages_cut_to_their_h
     cut_rows = salvage(data, [camera], [camera], 64).rows
     assert [len(payload) for _, _, payload in whole] == [50_000] * 20
     assert [payload for _, _, payload in cut_rows] == [payload[:64] for _, _, payload in whole]
+
+
+# A damaged MCAP chunk (hostile43): the messages whose records still parse are read, and how many said.
+
+NAV2_TB4 = "ros2_mcap_nav2_turtlebot4.mcap"  # one zstd chunk of 8,197 messages
+
+
+def _flipped(path: Path, at: int) -> None:
+    with path.open("r+b") as f:
+        f.seek(at)
+        (byte,) = f.read(1)
+        f.seek(at)
+        f.write(bytes([byte ^ 0xFF]))
+
+
+def test_a_real_zstd_chunk_failing_its_checksum_gives_every_message(tmp_path: Path) -> None:
+    """The Nav2 TurtleBot 4's .mcap, one byte flipped inside its one zstd chunk: zstd decodes it all but its
+    checksum fails. Was: 'no transforms could be read: 1 of 1 chunks could not be read (...)', exit 2 on every
+    command; now all 8197 messages, the damage said."""
+    bag = copied(NAV2_TB4, tmp_path)
+    whole, _ = rows(bag)
+    _flipped(bag, 58 + 180_000)
+    got, problems = rows(bag)
+    assert len(got) == len(whole) and len(set(got) - set(whole)) <= 1
+    assert problems == [
+        "1 of 1 chunks is damaged (zstd chunk cannot be decompressed whole (zstd data damaged (zstd decompress error: "
+        "Restored data doesn't match checksum))): all 8197 of its messages still parse and are read, but a value "
+        "among them may be wrong"
+    ]
+
+
+def test_a_real_zstd_chunk_damaged_mid_way_gives_the_messages_before_the_damage(tmp_path: Path) -> None:
+    bag = copied(NAV2_TB4, tmp_path)
+    whole, _ = rows(bag)
+    _flipped(bag, 352_254)
+    got, problems = rows(bag)
+    assert set(got) <= set(whole) and 0.8 * len(whole) < len(got) < len(whole)
+    assert problems == [
+        "1 of 1 chunks is damaged (zstd chunk cannot be decompressed whole (zstd data damaged (zstd decompress error: "
+        "Data corruption detected))): 7615 of its 8197 messages read from the records that still parse (a value "
+        "among them may be wrong), 582 lost"
+    ]
+
+
+def test_a_real_lz4_chunk_damaged_mid_way_gives_the_messages_before_the_damage(tmp_path: Path) -> None:
+    """The same recording written again with lz4 chunks (3), a byte of the first flipped: lz4 gives nothing of a
+    damaged block, and the chunk's 2889 messages were all lost; now those before the damage are read."""
+    from tests.corpus.variants import rewrite_mcap
+
+    original = copied(NAV2_TB4, tmp_path)
+    bag = rewrite_mcap(original, tmp_path / "lz4.mcap", compression=CompressionType.LZ4)
+    whole, _ = rows(bag)
+    first = _chunks(bag)[0]
+    _flipped(bag, 75_113)
+    got, problems = rows(bag)
+    outside = [row for row in whole if not first.message_start <= row[6] <= first.message_end]
+    assert set(outside) <= set(got) and len(got) > len(outside) + 1000
+    assert len(set(got) - set(whole)) <= 2  # decoded past the damage: the line says a value may be wrong
+    assert problems[0].startswith("1 of 3 chunks is damaged (lz4 chunk cannot be decompressed whole (lz4 data damaged")
+    assert problems[0].endswith(
+        "1326 of its 2889 messages read from the records that still parse (a value among them may be wrong), 1563 lost"
+    )
+
+
+def test_a_real_uncompressed_chunk_with_a_damaged_record_loses_that_record_only(tmp_path: Path) -> None:
+    """The CougUV AUV's .mcap (one uncompressed chunk of 2671 messages), the opcode of one /tf message record
+    overwritten: read in ranges, then whole (rosbag2 writes no CRC), its message index does not match it; every
+    other message is read (before: none)."""
+    bag = copied("ros2_mcap_coug_auv_replayed", tmp_path)
+    whole, _ = rows(bag)
+    (part,) = bag.glob("*.mcap")
+    (chunk,) = _chunks(part)
+    data = part.read_bytes()
+    tf = _channel_ids(part, "/tf")
+    at, records_end = chunk.records_start, chunk.records_start + chunk.records_length
+    while not (data[at] == 0x05 and int.from_bytes(data[at + 9 : at + 11], "little") == tf):
+        at += 9 + int.from_bytes(data[at + 1 : at + 9], "little")
+        assert at < records_end
+    (log_time,) = struct.unpack_from("<q", data, at + 9 + 2 + 4)
+    with part.open("r+b") as f:
+        f.seek(at)
+        f.write(b"\x50")
+    got, problems = rows(bag)
+    assert got == [row for row in whole if (row[6], row[7]) != (log_time, "/tf")] and len(got) < len(whole)
+    assert problems == [
+        "1 of 1 chunks is damaged (message index does not match its chunk): 2670 of its 2671 messages read from the "
+        "records that still parse (a value among them may be wrong), 1 lost"
+    ]
+
+
+def _chunks(path: Path) -> list[ChunkIndex]:
+    with FileSource(path) as source:
+        summary = summary_of(source)
+    assert summary is not None
+    return sorted(summary.chunks, key=lambda c: c.offset)
+
+
+def _channel_ids(path: Path, topic: str) -> int:
+    from mcap.reader import make_reader
+
+    with path.open("rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None
+    (channel,) = [c.id for c in summary.channels.values() if c.topic == topic]
+    return int(channel)
+
+
+# A ROS 1 bag cut inside its last chunk: every whole record before the cut is read.
+
+
+def _tf_records(data: bytes) -> tuple[list[int], int, int]:
+    """The data end of every /tf and /tf_static message record of a ROS 1 bag of uncompressed chunks, in file
+    order, and its last chunk's data start and end: walked over its records here, not by tftools' reader."""
+    header = read_bag_header(data)
+    records, pos = [], header.data_start
+    connections = {}
+    at = header.index_pos
+    while at < len(data):  # the connection records after the chunks
+        record = read_record(data, at)
+        if record.op == OP_CONNECTION:
+            connection = read_connection(data, record)
+            connections[connection.id] = connection.topic
+        at = record.data_end
+    last = (0, 0)
+    while pos < header.index_pos:
+        record = read_record(data, pos)
+        if record.op == OP_CHUNK:
+            chunk = read_chunk(record)
+            assert chunk.compression == "none"
+            last = (chunk.data_start, chunk.data_end)
+            inner = chunk.data_start
+            while inner < chunk.data_end:
+                message = read_record(data, inner)
+                if message.op == OP_MESSAGE and connections[message.uint("conn")] in ("/tf", "/tf_static"):
+                    records.append(message.data_end)
+                inner = message.data_end
+        pos = record.data_end
+    return records, *last
+
+
+@pytest.mark.parametrize("fraction", [0.3, 0.6, 0.9])
+def test_a_real_plain_bag_cut_inside_a_record_reads_every_whole_record_before_it(
+    tmp_path: Path, fraction: float
+) -> None:
+    """The self-driving car's bag (4 uncompressed chunks) cut inside its last chunk: every /tf message whose
+    record ends before the cut is read, as many as counted here over the bag's records."""
+    bag = copied("ros1_car_path_follower.bag", tmp_path)
+    whole, _ = rows(bag)
+    records, start, end = _tf_records(bag.read_bytes())
+    at = start + int((end - start) * fraction)
+    expected = sum(1 for record_end in records if record_end <= at)
+    cut(bag, at)
+    got, problems = rows(bag)
+    assert set(got) <= set(whole) and len(got) < len(whole)
+    (line,) = problems
+    assert line.startswith(f"{bag.name}: truncated after {at} of more than ")
+    assert f"; read {expected} of ~" in line
+
+
+def test_a_real_bz2_bag_cut_inside_its_last_chunk_says_why_that_chunk_is_lost(tmp_path: Path) -> None:
+    """bz2 decompresses whole blocks only (a chunk is one): the Zed EKF bag cut inside its last chunk loses it,
+    which the line now says."""
+    bag = copied("ros1_sail_zed_revalued_stamps_2022.bag", tmp_path)
+    data = bag.read_bytes()
+    header, pos, last = read_bag_header(data), read_bag_header(data).data_start, (0, 0)
+    while pos < header.index_pos:  # to the last chunk
+        record = read_record(data, pos)
+        if record.op == OP_CHUNK:
+            last = (read_chunk(record).data_start, record.data_end)
+        pos = record.data_end
+    cut(bag, (last[0] + last[1]) // 2)
+    _, problems = rows(bag)
+    (line,) = problems
+    assert (
+        "; its last chunk (bz2) is cut short, and bz2 gives nothing of a block cut short: its messages are lost" in line
+    )
+
+
+def test_a_real_db3_read_from_its_pages_lets_the_pages_read_go_as_it_goes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A real TurtleBot3 lap's .db3 (28 MB) cut at 60%, read from its pages: its map's pages were all resident at
+    the end (the read took 27.6 MiB beyond the imports, the intact file's 11.6 MiB); each 4 MiB of pages read is
+    let go now (16.2 MiB), the file's pages left in the page cache."""
+    bag = copied("ros2_db3_tb3_real_lap_2025", tmp_path)
+    (db3,) = bag.glob("*.db3")
+    cut(db3, db3.stat().st_size * 6 // 10)
+    released: list[tuple[int, int]] = []
+    release = FileSource.release
+
+    def noted(source: FileSource, start: int, end: int) -> None:
+        released.append((start, end))
+        release(source, start, end)
+
+    monkeypatch.setattr(FileSource, "release", noted)
+    got, problems = rows(bag)
+    assert got and any("cut short" in p for p in problems)
+    size = db3.stat().st_size
+    assert len(released) >= size // (4 << 20) and set(released) == {(0, size)}

@@ -4,6 +4,7 @@ writer makes, and files cut short or damaged."""
 
 from __future__ import annotations
 
+import re
 import struct
 from functools import cache
 from pathlib import Path
@@ -225,7 +226,8 @@ def test_cut_short(tmp_path: Path, layout: str) -> None:
 
 @pytest.mark.parametrize("compression", [CompressionType.ZSTD, CompressionType.LZ4, CompressionType.NONE])
 def test_damaged_chunk(tmp_path: Path, compression: CompressionType) -> None:
-    """Bytes overwritten inside one chunk: that chunk's messages are lost, the others are read."""
+    """Bytes overwritten inside one chunk: the other chunks' messages are read, and those of that chunk whose
+    records still parse (before, all of its messages were lost); one line says so, with how many."""
     messages, others, _ = scene(2, 1500)
     options = McapOptions(chunk_size=10_000, compression=compression, extra=others)
     path = write_foxglove_mcap(tmp_path / "x.mcap", CHANNELS, messages, options)
@@ -239,10 +241,15 @@ def test_damaged_chunk(tmp_path: Path, compression: CompressionType) -> None:
     path.write_bytes(bytes(data))
     contents = read_contents([path])
     rows = batch_rows(contents.transforms)
-    assert_partial(rows, expected, contents.problems)
-    assert 0.5 * len(expected) < len(rows) < len(expected)
-    (line,) = contents.problems
-    assert "could not be" in line or "damaged" in line, line
+    damaged_span = struct.unpack_from("<QQ", data, start + 9)
+    outside = [row for row in expected if not damaged_span[0] <= row[6] <= damaged_span[1]]
+    inside = [row for row in rows if damaged_span[0] <= row[6] <= damaged_span[1]]
+    assert [row for row in rows if row not in inside] == outside
+    assert len([row for row in inside if row in expected]) > 0.3 * (len(expected) - len(outside))
+    assert len([row for row in inside if row not in expected]) <= 4  # the messages the overwritten bytes fall in
+    assert re.fullmatch(
+        r"1 of \d+ chunks is damaged \(.*\): (all )?\d+ of its (\d+ )?messages .*", contents.problems[0]
+    )
 
 
 def chunk_offsets(data: bytes) -> list[tuple[int, int]]:
@@ -351,11 +358,11 @@ def reads(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, int]]:
         seen.append(("range", len(view)))
         return read_into(source, view, offset)
 
-    def counted_chunk(content: memoryview, **options: Any) -> bytes | memoryview:
+    def counted_chunk(content: memoryview, *args: Any) -> tuple[bytes | memoryview, str]:
         body = Body(content)
         body.take(CHUNK_HEAD)
         seen.append((body.string() or "none", len(content)))
-        return chunk_records(content, **options)
+        return chunk_records(content, *args)
 
     monkeypatch.setattr(FileSource, "read_into", counted_range)
     monkeypatch.setattr(mcap_index, "chunk_records", counted_chunk)
@@ -463,25 +470,33 @@ def damaged_rosbags_mcap(tmp_path: Path, seed: int) -> tuple[Path, list[Msg | Ot
 @pytest.mark.parametrize("where", ["past_the_chunk", "inside_a_record", "swapped_with_an_image"])
 def test_index_entry_pointing_elsewhere(tmp_path: Path, where: str) -> None:
     """A /tf index entry of an uncompressed chunk read in ranges that does not point at a /tf
-    message: that chunk's messages are lost with one line, the other chunks' are read."""
+    message: that chunk is read whole, and every message of it whose entry does point at it is read
+    (before, the chunk's messages were all lost); one line says how many were lost."""
     path, messages, data, chunk, count = damaged_rosbags_mcap(tmp_path, 22)
     tf, image = [chunk.index_offsets[c] for c in _channel_ids(path, "/tf", "/camera/image")]
     tf_entry, image_entry = tf + 9 + 2 + 4 + 16 * 3 + 8, image + 9 + 2 + 4 + 8  # offsets of a /tf message, an image
     (offset,), (image_offset,) = struct.unpack_from("<Q", data, tf_entry), struct.unpack_from("<Q", data, image_entry)
+    (moved_time,) = struct.unpack_from("<Q", data, tf_entry - 8)
     moved = {"past_the_chunk": 10**9, "inside_a_record": offset + 3, "swapped_with_an_image": image_offset}[where]
     struct.pack_into("<Q", data, tf_entry, moved)
     if where.startswith("swapped"):
         struct.pack_into("<Q", data, image_entry, offset)
     path.write_bytes(bytes(data))
     contents = read_contents([path], RANGE_TOPICS)
-    assert batch_rows(contents.transforms) == rows_outside(expected_rows(messages, RANGE_TOPICS), bytes(data), chunk)
+    expected = expected_rows(messages, RANGE_TOPICS)
+    assert batch_rows(contents.transforms) == [row for row in expected if (row[6], row[7]) != (moved_time, "/tf")]
     (line,) = contents.problems
-    assert line == f"1 of {count} chunks could not be read (message index does not match its chunk);" + LOST
+    lost = 2 if where.startswith("swapped") else 1
+    assert line.startswith(f"1 of {count} chunks is damaged (message index does not match its chunk): ")
+    assert line.endswith(
+        f"messages read from the records that still parse (a value among them may be wrong), {lost} lost"
+    )
 
 
 @pytest.mark.parametrize("field", ["opcode", "records_length"])
 def test_chunk_head_damaged(tmp_path: Path, field: str) -> None:
-    """The head of a chunk read in ranges is not what the summary says: only its messages are lost."""
+    """The head of a chunk read in ranges is not what the summary says: no chunk there, its messages are lost;
+    a records length one past the chunk's end, its records are read all the same and the damage said."""
     path, messages, data, chunk, count = damaged_rosbags_mcap(tmp_path, 24)
     if field == "opcode":
         data[chunk.offset] = 0x50
@@ -489,9 +504,14 @@ def test_chunk_head_damaged(tmp_path: Path, field: str) -> None:
         struct.pack_into("<Q", data, chunk.records_start - 8, chunk.records_length + 1)
     path.write_bytes(bytes(data))
     contents = read_contents([path], RANGE_TOPICS)
-    assert batch_rows(contents.transforms) == rows_outside(expected_rows(messages, RANGE_TOPICS), bytes(data), chunk)
+    expected = expected_rows(messages, RANGE_TOPICS)
     (line,) = contents.problems
-    assert line.startswith(f"1 of {count} chunks could not be read (") and line.endswith(LOST)
+    if field == "opcode":
+        assert batch_rows(contents.transforms) == rows_outside(expected, bytes(data), chunk)
+        assert line.startswith(f"1 of {count} chunks could not be read (") and line.endswith(LOST)
+    else:
+        assert batch_rows(contents.transforms) == expected
+        assert line.startswith(f"1 of {count} chunks is damaged (chunk shorter than it says): all ")
 
 
 @pytest.mark.parametrize("fraction", [0.02, 0.5, 0.98])

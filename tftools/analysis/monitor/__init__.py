@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -73,6 +73,9 @@ class MonitorReport:
     #: The recording names no publishers (a ROS 2 bag; a ROS 1 bag without callerids): each authority is the topic
     #: its transforms came on, not a node.
     unnamed: bool = False
+    #: The edges (parent, child) whose largest gap spans a part of the file that is damaged (``SourceInfo.damaged``):
+    #: transforms lost there, not a pause of their publisher.
+    damaged_gaps: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -98,7 +101,25 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     report = monitor_buffer(
         buffer, query.target, query.source, window, unstored=recording.refused, sent=recording.contents.sent
     )
-    return dataclasses.replace(report, unnamed=not publishers_named(recording))
+    return dataclasses.replace(
+        report, unnamed=not publishers_named(recording), damaged_gaps=_damaged_gaps(recording, report.edges)
+    )
+
+
+def _damaged_gaps(recording: Recording, edges: Sequence[EdgeStats]) -> tuple[tuple[str, str], ...]:
+    """The edges whose largest gap overlaps a damaged part of a file: the record times of the samples that begin and
+    end it against the parts' (``SourceInfo.damaged``), on the record clock both are on."""
+    spans = [span for source in recording.contents.files for span in source.damaged]
+    out = []
+    for e in edges if spans else ():
+        hist = recording.buffer.history(e.child)
+        if e.static or not e.longest_interval or hist is None or not len(hist.stamps):
+            continue
+        at = min(int(np.searchsorted(hist.stamps, e.longest_interval_start)), len(hist.stamps) - 1)
+        first, last = int(hist.record_times[at]), int(hist.record_times[min(at + 1, len(hist.stamps) - 1)])
+        if any(first <= b and a <= last for a, b in spans):
+            out.append(e.key)
+    return tuple(out)
 
 
 def monitored_window(recording: Recording, query: MonitorQuery) -> tuple[int | None, int | None]:

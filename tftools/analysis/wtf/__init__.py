@@ -25,6 +25,7 @@ from tftools.analysis.wtf import (  # noqa: F401  (they register their checks)
 from tftools.analysis.wtf.causes import explain
 from tftools.analysis.wtf.registry import CHECKS, Check, CheckSkippedError
 from tftools.analysis.wtf.scene import Scene
+from tftools.analysis.wtf.source import said_where_damaged
 from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.buffer import Buffer
 from tftools.sources.contents import StampedMessages
@@ -67,4 +68,4 @@ def findings_of(scene: Scene, ignore: Collection[str] = ()) -> list[Finding]:
             found.extend(f for f in c.run(scene) if f.code not in ignore)  # a check may speak for another
         except CheckSkippedError as why:
             found.append(Finding(Severity.info, c.code, f"not checked: {why.reason}", why.hint, skipped=True))
-    return explain(found)
+    return explain(said_where_damaged(scene, found))

@@ -91,6 +91,25 @@ def _during(cause: Finding, finding: Finding) -> bool:
     )
 
 
+#: How far (s) around the span of a file's lost messages a pause or a bad value is put down to them, at least, and
+#: what share of that span further: a pause of tf begins with the last sample read before them and ends with the
+#: first after (a slow publisher's a period away), no further (a real pause just before is the robot's).
+DAMAGE_REACH_S, DAMAGE_REACH_SHARE = 1.0, 0.1
+
+
+#: What a file's damage may explain (``in_the_damage``).
+IN_DAMAGE = frozenset({"stall", "rate", "stale", "invalid_values", "jump", "time_backwards"})
+
+
+def in_the_damage(cause: Finding, finding: Finding) -> bool:
+    """A pause, stop or bad value of tf within the span of a file's lost messages (``DAMAGE_REACH_S``): lost or
+    read from damaged bytes there, not the robot's."""
+    if not cause.last_time or not finding.first_time:
+        return False
+    reach = max(int(DAMAGE_REACH_SHARE * (cause.last_time - cause.first_time)), int(DAMAGE_REACH_S * 1e9))
+    return cause.first_time - reach <= finding.first_time and finding.last_time <= cause.last_time + reach
+
+
 def _its_parents_by_topic(cause: Finding, finding: Finding) -> bool:
     """A frame sent on /tf_static and on /tf under parents the cause found it under (its frame, then those)."""
     return finding.frames[:1] == cause.frames[:1] and set(finding.frames[1:]) <= set(cause.frames[1:])
@@ -187,6 +206,13 @@ class Rule:
 
 #: A finding that follows from one that follows from another is said beneath the first (the root cause).
 RULES = (
+    Rule(
+        frozenset({"bag_problem"}),
+        IN_DAMAGE,
+        in_the_damage,
+        "pauses, stops and bad values of tf where the file is damaged: its messages there were lost, or read "
+        "from damaged bytes, said once with the damage",
+    ),
     Rule(
         frozenset({"static_conflict", "dynamic_on_static"}),
         frozenset({"urdf_moved", "urdf_parent", "urdf_missing"}),

@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
+from dataclasses import replace
+
+import numpy as np
 
 from tftools.analysis.data_frames import DataFrames, data_frames
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.no_transforms import no_transforms_hint
+from tftools.analysis.wtf.causes import IN_DAMAGE, in_the_damage
 from tftools.analysis.wtf.registry import declare, register
 from tftools.analysis.wtf.scene import Scene, listed
 from tftools.analysis.wtf.silence import silent_moving_topics
@@ -68,14 +72,54 @@ def bag_problem(scene: Scene) -> Iterator[Finding]:
                 line,
                 "the findings cover the other topics: convert this one to a type and encoding tfx reads to check it",
             )
-    for problem in (p for f in contents.files for p in f.problems):
-        yield Finding(
-            Severity.warning,
-            "bag_problem",
-            problem,
-            "the findings cover only what could be read: repair the bag as the problem says, or copy it again "
-            "if it was cut short",
-        )
+    for source in contents.files:
+        # the damaged parts' span, on the clock of the findings it explains (``causes``), on its first line
+        first, last = _on_stamps(scene, source.damaged) if source.damaged else (0, 0)
+        for n, problem in enumerate(source.problems):
+            yield Finding(
+                Severity.warning,
+                "bag_problem",
+                problem,
+                "the findings cover only what could be read: repair the bag as the problem says, or copy it again "
+                "if it was cut short",
+                first_time=first if not n else 0,
+                last_time=last if not n else 0,
+            )
+
+
+def said_where_damaged(scene: Scene, found: list[Finding]) -> list[Finding]:
+    """Of the findings that ``causes`` may put under a file's damage (a pause, stop or bad value of tf), those that
+    reach into the span of its lost messages and beyond (a pause of the robot's beside one the file lost, said as
+    one): their message says where the file lost its transforms, so that the lost stretch is not taken for theirs."""
+    damage = [f for f in found if f.code == "bag_problem" and f.last_time]
+    if not damage:
+        return found
+    out = []
+    for f in found:
+        if f.code in IN_DAMAGE and f.first_time and not any(in_the_damage(d, f) for d in damage):
+            where = [d for d in damage if f.first_time <= d.last_time and d.first_time <= f.last_time]
+            if where:
+                lost = f"from {scene.at(where[0].first_time)} to {scene.at(where[0].last_time)}"
+                f = replace(f, message=f"{f.message} (the file is damaged there: its transforms {lost} were lost)")
+        out.append(f)
+    return out
+
+
+def _on_stamps(scene: Scene, damaged: list[tuple[int, int]]) -> tuple[int, int]:
+    """The record times of a file's damaged parts as moments on the stamps' clock: ROS time at their arrival
+    where it is known, else the stamps of the moving transforms recorded last before them and first after them
+    (stamps on simulated time recorded without /clock); (0, 0) where neither is known."""
+    start, end = min(s for s, _ in damaged), max(e for _, e in damaged)
+    first, last = scene.ros_times([start, end])
+    if first and last:
+        return first, last
+    moving = np.flatnonzero(~scene.rows.static)
+    if not len(moving):
+        return 0, 0
+    recorded, stamps = scene.rows.record_time[moving], scene.rows.stamp[moving]
+    before = max(int(np.searchsorted(recorded, start)) - 1, 0)
+    after = min(int(np.searchsorted(recorded, end, side="right")), len(moving) - 1)
+    return int(stamps[before]), int(stamps[after])
 
 
 declare("unreadable", Severity.error, "a bag that could not be read at all")

@@ -4,8 +4,9 @@ The lz4 package gives a block's bytes only once the whole block is there, and a 
 chunk is often one block (roslz4 writes blocks of up to 4 MiB; a default 768 KiB chunk is one). An
 LZ4 block is a run of sequences, each literal bytes then a copy of earlier output, so every sequence
 before the cut decodes exactly as it would whole (https://github.com/lz4/lz4/blob/dev/doc/): read
-here, in Python, only for data that ended early, never for data that failed to decompress (past
-damage it would decode garbage).
+here, in Python, only for data that ended early or failed to decompress. Past damage it may decode
+garbage until an offset points before the output: what is made of it is checked where it is parsed
+(records at the offsets an index gives, their lengths and types), and the damage is said.
 """
 
 from __future__ import annotations

@@ -64,6 +64,7 @@ class FileScan:
     """One file's transform, clock and stamped messages (undecoded) and description."""
 
     __slots__ = (
+        "damaged",
         "end",
         "message_count",
         "messages",
@@ -87,6 +88,7 @@ class FileScan:
         self.problems: list[str] = []  # damage: what was lost
         self.skipped: list[Unread] = []  # asked-for topics of types or encodings not read
         self.windowed = True  # False: read whole, without an index to find a record-time window by
+        self.damaged: list[tuple[int, int]] = []  # record-time spans of the damaged parts (``SourceInfo.damaged``)
 
     def note_times(self, first: int, last: int, count: int) -> None:
         """``count`` messages of any topic met, recorded from ``first`` to ``last`` (when no index
@@ -152,6 +154,7 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
         windowed=all(s.windowed for s in scans),
         tf_messages=tf_messages,
         tf_empty_from=tf_empty_from,
+        damaged=sorted(span for scan in scans for span in scan.damaged),
     )
     sent = concat_sent([scan.messages.sent for scan in scans])
     room = scans[0].messages.room if len(scans) == 1 else None  # several: each brought in a part of it

@@ -22,6 +22,9 @@ UNDECLARED_SHARE = 16  # a message not stating its size may take this share of i
 FREE_SPACE_MARGIN = 256 << 20  # bytes a file decompressed to disk leaves free there
 _PIECE = 1 << 16  # compressed bytes fed at a time, so a damaged stream still yields its start
 _OUT_PIECE = 1 << 20  # decompressed bytes asked for at a time from a stream reader
+_DAMAGED_PIECE = 1 << 12  # ... and from one of damaged data, read again: what comes before the damage
+_ZSTD_MAGIC = b"\x28\xb5\x2f\xfd"
+_ZSTD_CHECKSUM_FLAG = 0x04  # of a zstd frame header's descriptor byte
 
 
 class CompressionUnavailableError(Exception):
@@ -100,17 +103,36 @@ def zstd(
     data: bytes | memoryview, declared: int, budget: Budget | None = None, most: tuple[int, str] | None = None
 ) -> Unpacked:
     """A zstd frame decompressed up to its declared size (see ``unpack``; ``most``: see ``allowed``)."""
-    zstandard = _zstandard()
     limit, cap = allowed(declared, budget, most)
+    out, loss = _zstd_read(data, limit, _OUT_PIECE)
+    if loss:  # again in small pieces, unchecked: a read that fails gives nothing of its piece
+        del out[:]  # not held beside the second read (memory)
+        out, _ = _zstd_read(_unchecked(data), limit, _DAMAGED_PIECE)
+    return _ended("zstd", out, declared, limit, cap, loss, budget)
+
+
+def _unchecked(data: bytes | memoryview) -> bytes | memoryview:
+    """A zstd frame without its content checksum, whose failure would withhold the last piece decompressed
+    (the damage is said all the same): its header's flag cleared and the checksum's 4 bytes left off."""
+    if bytes(data[:4]) != _ZSTD_MAGIC or len(data) < 9 or not data[4] & _ZSTD_CHECKSUM_FLAG:
+        return data
+    frame = bytearray(data[:-4])
+    frame[4] &= ~_ZSTD_CHECKSUM_FLAG
+    return bytes(frame)
+
+
+def _zstd_read(data: bytes | memoryview, limit: int, piece_size: int) -> tuple[bytearray, str]:
+    """What the zstd ``data`` decompresses to, read ``piece_size`` bytes at a time up to just past ``limit``,
+    and what damage ended it ("" for none)."""
+    zstandard = _zstandard()
     out = bytearray()
-    loss = ""
     try:
         with zstandard.ZstdDecompressor().stream_reader(data) as reader:
-            while len(out) <= limit and (piece := reader.read(min(_OUT_PIECE, limit + 1 - len(out)))):
+            while len(out) <= limit and (piece := reader.read(min(piece_size, limit + 1 - len(out)))):
                 out += piece
     except zstandard.ZstdError as e:
-        loss = f"zstd data damaged ({e})"
-    return _ended("zstd", out, declared, limit, cap, loss, budget)
+        return out, f"zstd data damaged ({e})"
+    return out, ""
 
 
 def zstd_messages(file_size: int) -> Callable[[bytes], bytes]:
@@ -197,17 +219,19 @@ def _fed(
 
 
 def _lz4(decompressor: _Decompressor, data: bytes | memoryview, declared: int, budget: Budget | None) -> Unpacked:
-    """``data`` as lz4 decompresses it; where it ends inside a block (a file cut short), that block up to
-    the cut too (``lz4_prefix``): lz4 gives a block only once it is whole."""
+    """``data`` as lz4 decompresses it; where it ends inside a block (a file cut short) or a block is damaged,
+    that block up to the cut or the damage too (``lz4_prefix``): lz4 gives a block only once it is whole
+    and sound. The loss is said all the same."""
     fed = _fed("lz4", decompressor, data, declared, budget)
-    if decompressor.eof or not fed.loss.startswith("lz4 data cut short"):
+    cut = fed.loss.startswith("lz4 data cut short")
+    if decompressor.eof or not (cut or fed.loss.startswith("lz4 data damaged")):
         return fed
     limit, cap = allowed(declared, budget)
     if budget is not None:
         budget.left += len(fed.data)  # spent again below, on what is kept
     prefix = lz4_prefix(data, limit + 1)
     out = prefix if len(prefix) > len(fed.data) else bytearray(fed.data)
-    return _ended("lz4", out, declared, limit, cap, "", budget)
+    return _ended("lz4", out, declared, limit, cap, "" if cut else fed.loss, budget)
 
 
 def _ended(

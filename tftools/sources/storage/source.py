@@ -192,6 +192,10 @@ class FileSource(ByteSource):
             self._fd = -1
 
     def buffer(self) -> FileBytes:
+        return self.mapped()
+
+    def mapped(self) -> mmap.mmap:
+        """The file's map (``buffer``), as the map it is: for parsers that unpack from it in place."""
         if self._map is None:
             try:
                 self._map = mmap.mmap(self.fd, 0, access=mmap.ACCESS_READ)

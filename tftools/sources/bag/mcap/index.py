@@ -26,6 +26,7 @@ from tftools.sources.bag.mcap.records import (
     Body,
     Channels,
     ChunkIndex,
+    Salvaged,
     chunk_records,
     records,
     scan_records,
@@ -67,7 +68,8 @@ def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels
         return False  # messages outside chunks, or unindexed
     result = channels.result
     chunks = sorted(summary.chunks, key=lambda c: c.offset)
-    lost, tried, misplaced = _read_chunks(source, chunks, channels, progress)
+    salvaged = Salvaged()
+    lost, tried, misplaced = _read_chunks(source, chunks, channels, progress, salvaged)
     if tried and misplaced == tried:
         return False
     result.message_count, result.start, result.end = count, start, end
@@ -75,25 +77,29 @@ def read_indexed(source: ByteSource, summary: Summary | None, channels: Channels
         result.note_problem(
             f"{len(lost)} of {len(chunks)} chunks could not be read ({lost[0]}); their messages are lost"
         )
+    if salvaged.chunks:
+        result.note_problem(salvaged.line(len(chunks)))
     return True
 
 
 def _read_chunks(
-    source: ByteSource, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback
+    source: ByteSource, chunks: list[ChunkIndex], channels: Channels, progress: ProgressCallback, salvaged: Salvaged
 ) -> tuple[list[str], int, int]:
     """The wanted messages of the chunks (in file order): uncompressed ones with unwanted channels
-    gathered to be read in ranges, the others read whole. Returns what is wrong with each chunk
-    that could not be read, how many were read, and of those how many are not where the summary says."""
+    gathered to be read in ranges, the others read whole (a damaged one as far as its records still
+    parse, noted in ``salvaged``). Returns what is wrong with each chunk that could not be read at all,
+    how many were read, and of those how many are not where the summary says."""
     lost: dict[int, str] = {}
     tried = misplaced = 0
 
     def read_whole(number: int, chunk: ChunkIndex, index: bytes | None) -> None:
         nonlocal misplaced
         try:
-            _read_chunk(source, chunk, number, channels, index)
+            _read_chunk(source, chunk, number, channels, index, salvaged)
         except DamageError as e:
             lost[number] = str(e)
             misplaced += e.offset == chunk.offset
+            channels.result.damaged.append((chunk.message_start, chunk.message_end))
 
     ranged = RangedReader(source, channels, lambda queued: read_whole(queued.number, queued.chunk, queued.index))
     indexed = [c for c in chunks if _in_window(c, channels) and _in_ranges(c, _wanted(c, channels), channels)]
@@ -198,28 +204,44 @@ def _chunk_index(content: bytes, size: int) -> ChunkIndex:
     return chunk
 
 
-def _read_chunk(source: ByteSource, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None) -> None:
+def _read_chunk(
+    source: ByteSource, chunk: ChunkIndex, number: int, channels: Channels, index: bytes | None, salvaged: Salvaged
+) -> None:
     """The wanted channels' messages of one chunk read whole, found through its message indexes
-    (``index``, read here when None) or, in a chunk without them, by walking its records."""
+    (``index``, read here when None) or, in a chunk without them, by walking its records. A damaged
+    chunk (cut short, failing to decompress or its CRC check) gives the messages whose records still
+    parse, noted in ``salvaged``; ``DamageError`` when none does."""
     raw = source.read(chunk.offset, chunk.end)
     opcode, _ = RECORD.unpack_from(raw) if len(raw) >= RECORD.size else (0, 0)
     if opcode != CHUNK:
         raise DamageError(f"no chunk at byte {chunk.offset}", chunk.offset)
-    data = chunk_records(memoryview(raw)[RECORD.size :], partial=False, budget=channels.budget)  # no copy of the chunk
+    data, damage = chunk_records(memoryview(raw)[RECORD.size :], channels.budget)  # no copy of the chunk
     if not chunk.index_offsets:
-        damage = scan_records(data, number, channels, counted=False)
-        if damage:
-            raise DamageError(damage)
+        walked, read = scan_records(data, number, channels, counted=False)
+        if damage or walked:
+            if not read:
+                raise DamageError(damage or walked)
+            salvaged.note(damage or walked, read, None)
+            channels.result.damaged.append((chunk.message_start, chunk.message_end))
         return
     if index is None:
         index = source.read(chunk.end, chunk.end + chunk.index_length)
-    wanted = _wanted(chunk, channels)
-    found = indexed([(number, c, _message_index(index, chunk.index_offsets[c] - chunk.end)) for c in wanted])
-    found = found.rows(np.argsort(found.offset, kind="stable"))  # handed on in file order, every channel's at once
-    found.end = np.full(len(found), len(data), np.int64)
-    if not payloads(np.frombuffer(data, np.uint8), found.offset, found, np.ones(len(found), bool)).all():
-        raise DamageError("message index does not match its chunk")
+    every = indexed([(number, c, _message_index(index, at - chunk.end)) for c, at in chunk.index_offsets.items()])
+    every = every.rows(np.argsort(every.offset, kind="stable"))  # handed on in file order, every channel's at once
+    every.end = np.full(len(every), len(data), np.int64)
+    fits = payloads(np.frombuffer(data, np.uint8), every.offset, every, np.ones(len(every), bool))
+    if not fits.all():
+        damage = damage or "message index does not match its chunk"
+    if damage and not fits.any():
+        raise DamageError(damage)
+    found = every.rows(fits & (every.looked_up(channels.wanted) >= 0))
     channels.result.messages.add_spans(found.looked_up(channels.wanted).astype(np.int32), found, data)
+    if damage:
+        read = int(np.count_nonzero(fits))
+        salvaged.note(damage, read, len(fits) - read)
+        if read < len(fits):  # the stretch of the messages lost (a pause there is the file's)
+            lost = every.time[~fits]
+            channels.result.damaged.append((int(lost.min()), int(lost.max())))
 
 
 def _message_index(index: bytes, at: int) -> bytes:

@@ -124,29 +124,62 @@ def records(data: bytes) -> list[tuple[int, int, int]]:
     return out
 
 
-def chunk_records(content: bytes | memoryview, *, partial: bool, budget: Budget | None = None) -> bytes | memoryview:
-    """The records inside a chunk, decompressed up to its declared size (as far as they go when
-    ``partial``); a view into ``content`` when it is a view and the chunk is not compressed.
-    Raises ``DamageError`` for a chunk that cannot be read whole unless ``partial``."""
+def chunk_records(content: bytes | memoryview, budget: Budget | None = None) -> tuple[bytes | memoryview, str]:
+    """The records inside a chunk, decompressed up to its declared size, and what is wrong with them ("" when
+    they are whole and pass the chunk's CRC check): as far as they go when the chunk is cut short or damaged; a
+    view into ``content`` when it is a view and the chunk is not compressed. Raises ``DamageError`` for a
+    compression that cannot be read here."""
     body = Body(content)
     _, _, uncompressed, crc = body.take(CHUNK_HEAD)
     compression = body.string()
     length = body.int(U64)
     data = content[body.pos : body.pos + length]
-    if len(data) < length and not partial:
-        raise DamageError("chunk shorter than it says")
+    damage = "chunk shorter than it says" if len(data) < length else ""
     records = data
     if compression:
         try:
             unpacked = unpack(compression, data, uncompressed, budget)
         except CompressionUnavailableError as e:
             raise DamageError(f"unsupported chunk compression {compression!r} ({e})") from None
-        if unpacked.loss and not partial:
-            raise DamageError(f"{compression} chunk cannot be decompressed whole ({unpacked.loss})")
+        if unpacked.loss:
+            damage = damage or f"{compression} chunk cannot be decompressed whole ({unpacked.loss})"
         records = unpacked.data
-    if not partial and crc and zlib.crc32(records) != crc:  # a CRC of 0 is none
-        raise DamageError("chunk fails its CRC check")
-    return records
+    if not damage and crc and zlib.crc32(records) != crc:  # a CRC of 0 is none
+        damage = "chunk fails its CRC check"
+    return records, damage
+
+
+class Salvaged:
+    """Damaged chunks of which some messages were still read: what is wrong with the first, how many
+    messages were read of them and how many lost (None: not known, a chunk without message indexes)."""
+
+    def __init__(self) -> None:
+        self.chunks = 0
+        self.first = ""
+        self.read = 0
+        self.lost: int | None = 0
+
+    def note(self, damage: str, read: int, lost: int | None) -> None:
+        self.chunks += 1
+        self.first = self.first or damage
+        self.read += read
+        self.lost = None if lost is None or self.lost is None else self.lost + lost
+
+    def line(self, of: int | None = None) -> str:
+        """The problem line (``of``: the file's chunks, when known); "" when no chunk is damaged."""
+        if not self.chunks:
+            return ""
+        many = self.chunks > 1 or of is not None
+        which = f"{self.chunks}{f' of {of}' if of else ''} chunk{'s' if many else ''}"
+        which += f" {'are' if self.chunks > 1 else 'is'} damaged ({self.first})"
+        its, doubt = ("their" if self.chunks > 1 else "its"), "a value among them may be wrong"
+        parsed = "read from the records that still parse"
+        if self.lost is None:
+            return f"{which}: {self.read} of {its} messages {parsed} ({doubt}); any after the damage are lost"
+        if not self.lost:
+            return f"{which}: all {self.read} of {its} messages still parse and are read, but {doubt}"
+        total = self.read + self.lost
+        return f"{which}: {self.read} of {its} {total} messages {parsed} ({doubt}), {self.lost} lost"
 
 
 #: Schema encodings whose data is a .msg definition (nested types included).
@@ -210,10 +243,10 @@ def _metadata(body: Body) -> dict[str, str]:
     return found
 
 
-def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, counted: bool) -> str:
+def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, counted: bool) -> tuple[str, int]:
     """Take the wanted messages of a chunk's records (chunk ``number`` of the file), walking them
     one by one (with ``counted``, every message is counted in the description); returns what was
-    wrong if they end in damage, else ""."""
+    wrong if they end in damage (else "") and how many messages were walked."""
     found: dict[int, tuple[list[int], list[int], list[bytes | memoryview]]] = {}
     times: list[int] = []
     pos, size, damage = 0, len(data), ""
@@ -248,4 +281,4 @@ def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, c
         channels.result.note_times(min(times), max(times), len(times))
     for channel_id, (log_times, positions, payloads) in found.items():
         channels.result.messages.add(channels.wanted[channel_id], log_times, positions, payloads)
-    return damage
+    return damage, len(times)

@@ -18,6 +18,7 @@ from tftools.sources.bag.mcap.records import (
     RECORD,
     SCHEMA,
     Channels,
+    Salvaged,
     chunk_records,
     known,
     scan_records,
@@ -36,6 +37,8 @@ def stream(source: ByteSource, channels: Channels, progress: ProgressCallback) -
         damage = reader.run(progress)
     if reader.lost_chunks:
         result.note_problem(f"{reader.lost_chunks} chunks are damaged; their messages are lost")
+    if reader.salvaged.chunks:
+        result.note_problem(reader.salvaged.line())
     if not damage:
         return
     if not result.message_count and not reader.chunks_read:
@@ -56,6 +59,7 @@ class _Stream:
         self.pos = len(MAGIC)
         self.number = 0  # of the record: orders the messages of equal record time
         self.lost_chunks = self.chunks_read = 0
+        self.salvaged = Salvaged()  # damaged chunks of which some messages were read
 
     def run(self, progress: ProgressCallback) -> str:
         """Returns where and what the damage met is, or "" at a clean end."""
@@ -111,12 +115,20 @@ class _Stream:
             self.channels.result.messages.add(target, [log_time], [self.number << 32], [self.f.read(rest)])
 
     def _chunk(self, content: bytes, *, partial: bool) -> None:
-        """A chunk's records; a damaged complete chunk is counted lost and skipped."""
+        """A chunk's records (of one ``partial``, cut short by the end of the file, as far as they go); a
+        damaged complete chunk's as far as they still parse, noted, or counted lost when none does."""
         try:
-            data = chunk_records(content, partial=partial, budget=self.channels.budget)
+            data, damage = chunk_records(content, self.channels.budget)
         except DamageError:
             self.lost_chunks += not partial
             return
-        self.chunks_read += 1
-        if scan_records(data, self.number, self.channels, counted=True) and not partial:
+        walked, read = scan_records(data, self.number, self.channels, counted=True)
+        damaged = damage or walked
+        if partial or not damaged or read:
+            self.chunks_read += 1
+        if partial or not damaged:
+            return
+        if read:
+            self.salvaged.note(damaged, read, None)
+        else:
             self.lost_chunks += 1

@@ -19,15 +19,23 @@ from tftools.sources.storage.source import ByteSource, FileBytes
 class Damage:
     """Chunks (or bytes between them) that could not be read: how many, the first, messages lost."""
 
-    __slots__ = ("first", "lost", "lost_known", "places")
+    __slots__ = ("doubtful", "first", "lost", "lost_known", "places", "spans")
 
     def __init__(self) -> None:
         self.places = 0
         self.first = ""
         self.lost = 0
         self.lost_known = True  # the index says how many messages each chunk held
+        self.doubtful = False  # messages were read of a chunk decompressed past damage
+        self.spans: list[tuple[int, int]] = []  # record-time spans of the damaged chunks
 
-    def note(self, pos: int, reason: str, lost: int | None) -> None:
+    def note(
+        self, pos: int, reason: str, lost: int | None, *, doubtful: bool = False, span: tuple[int, int] | None = None
+    ) -> None:
+        """Damage at byte ``pos``; ``span``: the record times of the chunk it is in, when the index gives them."""
+        self.doubtful |= doubtful
+        if span is not None:
+            self.spans.append(span)
         self.places += 1
         self.first = self.first or f"first at byte {pos}: {reason}"
         if lost is None:
@@ -112,17 +120,27 @@ class BagFile:
         the pages of a mapping costs more than the copy a read makes, and they would count as resident)."""
         return unpack(chunk.compression, self.source.read(chunk.data_start, end), chunk.size, self.budget)
 
+    @property
+    def counted(self) -> str:
+        """What ``transform_messages`` counts, said: sensor data read for its headers is counted with the tf."""
+        return "transform messages" if self.wanted.headers is None else "messages of the topics read"
+
     def note_damage(self) -> None:
         d = self.damage
         if not d.places:
             return
+        self.scan.damaged += d.spans
         what = "a damaged part" if d.places == 1 else f"{d.places} damaged parts"
-        kind = "transform messages" if self.wanted.headers is None else "messages of the topics read"
+        kind = self.counted
         if d.lost_known:
             lost = f"{d.lost} {kind} lost"
         else:
             lost = f"at least {d.lost} {kind} lost" if d.lost else f"the {kind} there are lost"
-        self.scan.note_problem(f"{self.name}: {what} could not be read ({d.first}); {lost}")
+        doubt = f"; of a damaged chunk, the {kind} read may hold a wrong value" if d.doubtful else ""
+        if d.lost_known and not d.lost:  # a chunk decompressed past damage, every message of it still parsing
+            self.scan.note_problem(f"{self.name}: {what} found ({d.first}); no {kind} lost{doubt}")
+            return
+        self.scan.note_problem(f"{self.name}: {what} could not be read ({d.first}); {lost}{doubt}")
 
 
 def _recorded(c: Connection) -> Recorded:

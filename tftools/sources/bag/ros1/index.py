@@ -175,11 +175,11 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         record = _record(bag, info.pos, OP_CHUNK)
         chunk = read_chunk(record)
     except DamageError as e:
-        bag.damage.note(info.pos, str(e), wanted)
+        bag.damage.note(info.pos, str(e), wanted, span=(info.start, info.end))
         return
     index = _chunk_index(bag, record, info)
     if chunk.compression == "none" and index is not None:
-        gathered.add(bag, _Pending(ordinal, wanted, index, chunk))
+        gathered.add(bag, _Pending(ordinal, wanted, index, chunk, (info.start, info.end)))
         return
     indexed = None if index is None else _indexed([index])  # read before the index's pages are let go
     bag.release(info.pos, record.data_start if index is None else index.end)
@@ -197,8 +197,18 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
         messages, _, first_error = locate(data, in_chunk(offsets, ordinal, len(data)), follow=True)
     got = int(bag.add(data, messages).sum())
     bag.release(info.pos, record.data_end)
-    if got < wanted:
-        bag.damage.note(info.pos, unpacked.loss or first_error or "its index points at no message", wanted - got)
+    if got < wanted or unpacked.loss:  # a chunk decompressed past damage may give every message, some wrong
+        reason = unpacked.loss or first_error or "its index points at no message"
+        listed = None if indexed is None else indexed.rows(_wanted(bag, indexed))
+        span = (info.start, info.end) if listed is None else lost_span(listed.time, listed.offset, messages.offset)
+        bag.damage.note(info.pos, reason, wanted - got, doubtful=bool(unpacked.loss) and got > 0, span=span)
+
+
+def lost_span(times: Int64Array, listed: Int64Array, read: Int64Array) -> tuple[int, int] | None:
+    """The record times, first and last, of the messages an index lists (``times``, at ``listed``) that were not
+    read (none at ``read``): where a damaged chunk lost them; None when every one was read."""
+    lost = times[~np.isin(listed, read)]
+    return (int(lost.min()), int(lost.max())) if len(lost) else None
 
 
 def _wanted(bag: BagFile, spans: Spans) -> BoolArray:
@@ -251,9 +261,10 @@ def _indexed(indexes: list[_Index]) -> Spans:
 class _Pending:
     """An uncompressed chunk whose wanted records wait to be read."""
 
-    __slots__ = ("chunk", "index", "ordinal", "wanted")
+    __slots__ = ("chunk", "index", "ordinal", "span", "wanted")
 
-    def __init__(self, ordinal: int, wanted: int, index: _Index, chunk: Chunk) -> None:
+    def __init__(self, ordinal: int, wanted: int, index: _Index, chunk: Chunk, span: tuple[int, int]) -> None:
+        self.span = span  # its messages' record times, first and last, as its chunk info says
         self.ordinal = ordinal
         self.wanted = wanted  # messages, as its chunk info counts them
         self.index = index
@@ -301,7 +312,12 @@ class _Gathered:
         messages, _, first_error = locate(data.data, records, follow=True, cut=cut)
         in_batch, messages.chunk = messages.chunk, np.array([c.ordinal for c in chunks], np.int64)[messages.chunk]
         got = np.bincount(in_batch[bag.add(data.data, messages)], minlength=len(chunks))
-        for pending, count in zip(chunks, got.tolist(), strict=True):
+        keys = records.chunk * (1 << 40) + records.offset  # each record's chunk in the batch and place in it
+        found = np.isin(keys, in_batch * (1 << 40) + messages.offset)
+        for i, (pending, count) in enumerate(zip(chunks, got.tolist(), strict=True)):
             if count < pending.wanted:
                 lost = pending.wanted - count
-                bag.damage.note(pending.chunk.pos, first_error or "its index points at no message", lost)
+                reason = first_error or "its index points at no message"
+                mine = records.chunk == i
+                span = lost_span(records.time[mine], keys[mine], keys[mine][found[mine]]) or pending.span
+                bag.damage.note(pending.chunk.pos, reason, lost, span=span)

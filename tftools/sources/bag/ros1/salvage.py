@@ -38,11 +38,11 @@ def read_unindexed(bag: BagFile, header: BagHeader, index_damage: str = "") -> N
         span, seen = header.index_pos - header.data_start, scanner.scanned - header.data_start
         expected = f"~{round(n * span / seen)}" if seen > 0 and n else "an unknown number of"
         line = f"truncated after {bag.size} of more than {header.index_pos} bytes; read {n} of {expected}"
-        line += " transform messages"
+        line += f" {bag.counted}{f'; {scanner.tail}' if scanner.tail else ''}"
     else:
         why = f"has a damaged index ({index_damage})" if index_damage else "has no index (its recording was not closed)"
         tail = f"; {scanner.tail}" if scanner.tail else ""
-        line = f"{why}; read {n} transform messages by scanning its chunks{tail}"
+        line = f"{why}; read {n} {bag.counted} by scanning its chunks{tail}"
     bag.scan.note_problem(f"{bag.name}: {line} ({_REPAIR})")
 
 
@@ -102,14 +102,18 @@ class _Scanner:
         except CompressionUnavailableError as e:
             bag.damage.note(chunk.pos, str(e), None)
             return end
+        read = self._messages(unpacked.data)
+        if chunk.data_end > stop and not len(unpacked.data) and chunk.compression == "bz2":
+            self.tail = (
+                "its last chunk (bz2) is cut short, and bz2 gives nothing of a block cut short: its messages are lost"
+            )
         if unpacked.loss and chunk.data_end <= stop:
-            bag.damage.note(chunk.pos, unpacked.loss, None)
-        self._messages(unpacked.data)
+            bag.damage.note(chunk.pos, unpacked.loss, None, doubtful=read > 0)
         bag.release(chunk.pos, end)
         return end
 
-    def _messages(self, data: bytes | memoryview) -> None:
-        """The messages of a chunk's records (every one counted; the wanted ones kept)."""
+    def _messages(self, data: bytes | memoryview) -> int:
+        """The messages of a chunk's records (every one counted; the wanted ones kept); how many there are."""
         bag = self.bag
         messages, connections, _ = locate(data, walk(data, self.chunk_ordinal), follow=False)
         self.chunk_ordinal += 1
@@ -118,6 +122,7 @@ class _Scanner:
         if len(messages):
             bag.scan.note_times(int(messages.time.min()), int(messages.time.max()), len(messages))
         bag.add(data, messages)
+        return len(messages)
 
     def _resync(self, pos: int, stop: int) -> int | None:
         """Where the next readable chunk record begins after damage at ``pos``."""

@@ -3,9 +3,9 @@
 
 from __future__ import annotations
 
-import mmap
 import sqlite3
 from collections.abc import Iterator
+from contextlib import closing
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +23,7 @@ from tftools.sources.codecs.select import HeaderCodec, Wanted, copied, select
 from tftools.sources.codecs.wire import HEADER_BYTES
 from tftools.sources.contents import Recorded
 from tftools.sources.errors import CorruptBagError
-from tftools.sources.storage.source import ByteSource
+from tftools.sources.storage.source import ByteSource, FileSource
 
 _FETCH = 1 << 12  # rows per fetch at most: progress is reported between fetches
 _FETCH_BYTES = 4 << 20  # and payload bytes (a fetch ends with the row that reaches them)
@@ -89,8 +89,8 @@ def _topics(db: Database) -> list[TopicRow | str]:
         later = ", ".join(c if c in present else "''" for c in _LATER_COLUMNS)
         rows = db.rows(f"SELECT id, name, type, serialization_format, {later} FROM topics")
     except sqlite3.Error as e:
-        with db.path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
-            found = salvage_topics(data)
+        with closing(FileSource(db.path)) as source:
+            found = salvage_topics(source.mapped(), source.release)
         if not found:
             raise CorruptBagError(str(db.path), f"its topics table cannot be read: {e}") from None
         damage = f"its topics table is damaged (sqlite: {e}): {len(found)} topics read from its intact pages"
@@ -293,8 +293,8 @@ def _add(
 
 
 def _salvage(path: Path, channels: dict[int, int], headers: set[int], result: FileScan, damage: str) -> list[Row]:
-    with path.open("rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as data:
-        found = salvage(data, channels, headers, HEADER_BYTES)
+    with closing(FileSource(path)) as source:
+        found = salvage(source.mapped(), channels, headers, HEADER_BYTES, source.release)
     rows = found.rows
     result.windowed = False
     if not rows:

@@ -17,19 +17,21 @@ from __future__ import annotations
 
 import mmap
 import struct
-from collections.abc import Collection
+from collections.abc import Callable, Collection, Iterator
 
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import ZSTD_MAGIC
 
 Bytes = bytes | mmap.mmap
 Row = tuple[int, int, bytes]  # topic id, record time, payload
+Release = Callable[[int, int], None]  # bytes start:end read and not needed again (``ByteSource.release``)
 
 _FILE_HEADER = 100
 _TABLE_LEAF, _LEAF_HEADER = 0x0D, 8
 _INT_SIZES = {1: 1, 2: 2, 3: 3, 4: 4, 5: 6, 6: 8}  # serial type -> bytes of a big-endian signed integer
 _INT_CONSTANTS = (8, 9)  # serial types of the integers 0 and 1, stored in no bytes
 _U16, _U32 = struct.Struct(">H"), struct.Struct(">I")
+_RELEASE_BYTES = 4 << 20  # of pages scanned between releases of the map's pages
 
 
 class Salvaged:
@@ -48,19 +50,25 @@ class Salvaged:
         self.lost = lost
 
 
-def salvage(data: Bytes, topic_ids: Collection[int], headed: Collection[int] = (), header_bytes: int = 0) -> Salvaged:
+def salvage(
+    data: Bytes,
+    topic_ids: Collection[int],
+    headed: Collection[int] = (),
+    header_bytes: int = 0,
+    release: Release | None = None,
+) -> Salvaged:
     """Every messages record in the whole leaf pages of the database image ``data``, with the
     payloads of those of ``topic_ids`` (of ``headed`` ones, read for their header, the first ``header_bytes``
     but where compressed, as sqlite hands them over). Reads no byte outside ``data``, follows no overflow
     chain round a loop, and in all no more overflow pages than the file holds (however many records
-    claim the same ones)."""
+    claim the same ones). ``release`` (a map's ``FileSource.release``) is told of the bytes scanned as it goes."""
     pages = _Pages.of(data)
     if pages is None:
         return Salvaged()
     times: dict[int, int] = {}  # rowid -> record time, of every message: freed pages may repeat a row
     wanted: dict[int, Row] = {}
     lost = 0
-    for number in range(1, pages.count + 1):
+    for number in pages.numbers(release):
         for cell in pages.leaf_cells(number):
             try:
                 message = pages.message(cell, topic_ids)
@@ -79,7 +87,7 @@ def salvage(data: Bytes, topic_ids: Collection[int], headed: Collection[int] = (
     return Salvaged(rows, len(times), first, last, lost)
 
 
-def salvage_topics(data: Bytes) -> list[tuple[int, str, str, str, str, str]]:
+def salvage_topics(data: Bytes, release: Release | None = None) -> list[tuple[int, str, str, str, str, str]]:
     """The rows of rosbag2's topics table in the whole leaf pages of the database image ``data``: (id, name,
     type, serialization format, offered QoS profiles, type hash), by id. A topics record is its id as rowid,
     then four texts, or five (Iron on); it is told from message_definitions' (as many texts) by its name,
@@ -88,7 +96,7 @@ def salvage_topics(data: Bytes) -> list[tuple[int, str, str, str, str, str]]:
     found: dict[int, tuple[int, str, str, str, str, str]] = {}
     if pages is None:
         return []
-    for number in range(1, pages.count + 1):
+    for number in pages.numbers(release):
         for cell in pages.leaf_cells(number):
             try:
                 row = pages.texts(cell)
@@ -123,6 +131,15 @@ class _Pages:
         if size < 512 or size & (size - 1) or size - data[20] < 480:
             return None
         return cls(data, size, size - data[20])
+
+    def numbers(self, release: Release | None) -> Iterator[int]:
+        """Every page's number, in order; every ``_RELEASE_BYTES`` the bytes read so far (overflow pages too,
+        wherever they are) ``release``d: a map's pages read once would stay resident, the whole file."""
+        step = max(1, _RELEASE_BYTES // self.page_size)
+        for number in range(1, self.count + 1):
+            yield number
+            if release is not None and (number % step == 0 or number == self.count):
+                release(0, len(self.data))
 
     def leaf_cells(self, number: int) -> list[int]:
         """Offsets of the cells of page ``number`` if it is a table leaf."""
