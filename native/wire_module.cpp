@@ -160,10 +160,13 @@ class Decoding {
     std::thread worker_;
 };
 
+// Records ahead whose header ``match_records`` asks for while it reads one.
+constexpr int64_t kAhead = 16;
+
 using Matched = std::tuple<Output<bool>, Output<int64_t>, Output<int64_t>, Output<int64_t>, Output<int64_t>>;
 
 // ROS1 message records at ``offsets`` of ``raw`` whose header (``header``: its bytes after its length,
-// conn's 4 at ``conn_at`` and time's 8 at ``time_at`` free) is laid out as the template's, each ending
+// conn's 4 at ``conn_at`` and time's 8 at ``time_at`` free) is laid out as the template's, its length too, each ending
 // within its ``limit`` (or, ``cut``, read only that far: its payload ends there). Which match; of
 // those, conn, record time (ns), payload start and end. Python's reading of the same, in one pass.
 Matched match_records(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::ndim<1>> offsets,
@@ -206,10 +209,20 @@ Matched match_records(Input<uint8_t, nb::ndim<1>> raw, Input<int64_t, nb::ndim<1
             std::memcpy(&v, bytes + at, 4);
             return static_cast<int64_t>(v);
         };
+        conn.reserve(static_cast<size_t>(n));
+        time.reserve(static_cast<size_t>(n));
+        data_start.reserve(static_cast<size_t>(n));
+        data_end.reserve(static_cast<size_t>(n));
         for (int64_t i = 0; i < n; ++i) {
+            // A record's header is this pass's first touch of its bytes, a miss to memory each: the
+            // header kAhead records on is asked for now (a position out of ``raw`` is not).
+            if (i + kAhead < n) {
+                const int64_t ahead = offsets.data()[i + kAhead];
+                if (ahead >= 0 && ahead < size) __builtin_prefetch(bytes + ahead);
+            }
             const int64_t offset = offsets.data()[i], limit = std::min(limits.data()[i], size);
             const int64_t length_at = offset + 4 + length;
-            if (offset < 0 || length_at + 4 > limit) continue;
+            if (offset < 0 || length_at + 4 > limit || u32(offset) != length) continue;
             const uint8_t* at = bytes + offset + 4;
             bool same = true;
             for (const auto& [begin, end] : fixed) {

@@ -110,3 +110,22 @@ def test_locate_one_layout_as_record_by_record() -> None:
     expected[4] = [s + shift for s in expected[4]]
     expected[5] = [e + shift for e in expected[5]]
     assert _columns(other) == expected
+
+
+def test_locate_records_of_two_layouts_each_by_its_own() -> None:
+    """A message whose header holds one field more than the others', its first fields theirs: located by
+    its own layout whether it comes first or after one of theirs (read as theirs, its payload's length
+    would be that field's)."""
+    plain = [_message(c, 100 + c, 0, bytes(range(c + 3))) for c in range(3)]
+    fields = [("op", bytes([OP_MESSAGE])), ("conn", struct.pack("<I", 7)), ("time", struct.pack("<II", 5, 0))]
+    longer = ros1_record([*fields, ("x", b"")], b"abcd")
+    ours = [bytes(range(c + 3)) for c in range(3)]
+    for records, channels, payloads in (
+        ([plain[0], longer, *plain[1:]], [0, 7, 1, 2], [ours[0], b"abcd", *ours[1:]]),
+        ([longer, *plain], [7, 0, 1, 2], [b"abcd", *ours]),
+    ):
+        data = b"".join(records)
+        found, connections, error = locate(data, walk(data, 0), follow=False)
+        assert (connections, error) == ([], "")
+        assert found.channel.tolist() == channels
+        assert [data[s:e] for s, e in zip(found.start.tolist(), found.end.tolist(), strict=True)] == payloads

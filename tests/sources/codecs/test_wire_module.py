@@ -66,6 +66,16 @@ def test_a_record_of_another_layout_or_past_its_limit_does_not_match() -> None:
     assert conn == [1]
 
 
+def test_a_record_whose_header_is_longer_than_the_template_does_not_match() -> None:
+    """Its header's first bytes are the template's, a field more after them: read as the template's, its
+    payload's length would be that field's (``locate`` tries every record of a chunk on the first one's)."""
+    longer = _header(1, 2, 3) + _field("x", b"")
+    data = _record(longer, b"abcd")
+    hit, (conn, *_) = _match(data, [0], [len(data)], [False], _header(0, 0, 0))
+    assert hit == [False]
+    assert conn == []
+
+
 def test_a_record_read_only_for_its_header_ends_at_its_limit() -> None:
     data = _record(_header(1, 2, 3), b"a long payload")
     limit = len(data) - 10

@@ -41,8 +41,8 @@ def match_records(
     conn_at: int,
     time_at: int,
 ) -> tuple[BoolArray, Int64Array, Int64Array, Int64Array, Int64Array]:
-    """Which ROS1 records at ``offsets`` of ``raw`` have a header laid out as ``header`` (its bytes after
-    its length; conn's 4 at ``conn_at`` and time's 8 at ``time_at`` may differ) and end within their
+    """Which ROS1 records at ``offsets`` of ``raw`` have a header laid out as ``header`` (its length, and its
+    bytes after it; conn's 4 at ``conn_at`` and time's 8 at ``time_at`` may differ) and end within their
     ``limits`` (or, ``cuts``, were read only that far: their payload ends there); of those, their conn,
     record time (ns), payload start and payload end."""
 
