@@ -9,13 +9,13 @@ import numpy as np
 
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import APART_DEG, APART_M, apart, inferred_edges, sent_before
+from tftools.analysis.wtf.broadcasters import APART_DEG, APART_M, inferred_edges, sent_before
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
-from tftools.core.figures import Sightings, held_apart, pauses, record_span, silence_limit, sustained_period
+from tftools.core.figures import Sightings, apart, held_apart, pauses, record_span, silence_limit, sustained_period
 from tftools.core.figures import delays as delays_of
 from tftools.core.history import old_data
 from tftools.core.semantics import dialect
