@@ -210,33 +210,7 @@ def read_headers(
     """The ``std_msgs/Header`` many messages start with, their frame_ids interned in ``frames``: only
     their bytes are read, never the rest (image pixels, points), so only the first ``HEADER_BYTES``
     of each message need be given."""
-    view = raw.data
-    read: list[int] = []
-    stamps: list[int] = []
-    ids: list[int] = []
-    failures: list[tuple[int, str]] = []
-    for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
-        try:
-            stamp, frame_id = _header(view, start, length, wires)
-        except DecodeError as e:
-            failures.append((message, str(e)))
-            continue
-        read.append(message)
-        stamps.append(stamp)
-        ids.append(frames.intern(frame_id))
-    return Headers(np.array(read, np.int64), np.array(stamps, np.int64), np.array(ids, np.int32), failures)
-
-
-def _header(raw: BytesLike, start: int, length: int, wires: Sequence[Wire]) -> Header:
-    return _header_at(Cursor(raw, wire_of(raw, start, length, wires), start, start + length))
-
-
-def _header_at(cursor: Cursor) -> Header:
-    """The header ``cursor`` stands at, read; the cursor moves past it."""
-    stamp, at, size = cursor.header()
-    if size > MAX_FRAME_ID:
-        raise DecodeError(worded(Reason.LONG_FRAME_ID, cursor.end - cursor.start, at - cursor.start, size))
-    return stamp, bytes(cursor.raw[at : at + size]).decode("utf-8", "replace")
+    return _read(raw, starts, lengths, frames, wires, stated=False)
 
 
 def read_odometry(
@@ -247,6 +221,13 @@ def read_odometry(
     orientation (7 float64, the first of its pose with covariance). Of a message given cut short (its first
     ``HEADER_BYTES``, a long frame_id), or whose child_frame_id is too long, the header alone (child -1, a NaN
     pose)."""
+    return _read(raw, starts, lengths, frames, wires, stated=True)
+
+
+def _read(
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, frames: FrameNames, wires: Sequence[Wire], *, stated: bool
+) -> Headers:
+    """The headers of ``read_headers``, and with ``stated`` what each message states beside it (``read_odometry``)."""
     view = raw.data
     read: list[int] = []
     stamps: list[int] = []
@@ -254,7 +235,6 @@ def read_odometry(
     children: list[int] = []
     poses: list[tuple[float, ...]] = []
     failures: list[tuple[int, str]] = []
-    unknown = (math.nan,) * 7
     for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
         try:
             cursor = Cursor(view, wire_of(view, start, length, wires), start, start + length)
@@ -262,20 +242,15 @@ def read_odometry(
         except DecodeError as e:
             failures.append((message, str(e)))
             continue
-        child, pose = -1, unknown
-        try:
-            at, size = cursor.string()
-            if size <= MAX_FRAME_ID:
-                named = bytes(view[at : at + size]).decode("utf-8", "replace")
-                pose = struct.unpack_from(f"{cursor.wire.order}7d", view, cursor.take(VALUES_SIZE, 8))
-                child = frames.intern(named)
-        except DecodeError:
-            pass
+        if stated:
+            child, pose = _stated(cursor, frames)
+            children.append(child)
+            poses.append(pose)
         read.append(message)
         stamps.append(stamp)
         ids.append(frames.intern(frame_id))
-        children.append(child)
-        poses.append(pose)
+    if not stated:
+        return Headers(np.array(read, np.int64), np.array(stamps, np.int64), np.array(ids, np.int32), failures)
     return Headers(
         np.array(read, np.int64),
         np.array(stamps, np.int64),
@@ -284,6 +259,31 @@ def read_odometry(
         np.array(children, np.int32),
         np.array(poses, np.float64).reshape(-1, 7),
     )
+
+
+_UNKNOWN_POSE = (math.nan,) * 7
+
+
+def _stated(cursor: Cursor, frames: FrameNames) -> tuple[int, tuple[float, ...]]:
+    """The child frame (interned in ``frames``) and pose after the header ``cursor`` has read past; -1 and a NaN
+    pose where the bytes end first or the child_frame_id is too long."""
+    try:
+        at, size = cursor.string()
+        if size > MAX_FRAME_ID:
+            return -1, _UNKNOWN_POSE
+        named = bytes(cursor.raw[at : at + size]).decode("utf-8", "replace")
+        pose = struct.unpack_from(f"{cursor.wire.order}7d", cursor.raw, cursor.take(VALUES_SIZE, 8))
+    except DecodeError:
+        return -1, _UNKNOWN_POSE
+    return frames.intern(named), pose
+
+
+def _header_at(cursor: Cursor) -> Header:
+    """The header ``cursor`` stands at, read; the cursor moves past it."""
+    stamp, at, size = cursor.header()
+    if size > MAX_FRAME_ID:
+        raise DecodeError(worded(Reason.LONG_FRAME_ID, cursor.end - cursor.start, at - cursor.start, size))
+    return stamp, bytes(cursor.raw[at : at + size]).decode("utf-8", "replace")
 
 
 # --- times --------------------------------------------------------------------------------------
