@@ -1,24 +1,15 @@
 """What corpus43a's recordings showed (a real PR2 of JSK, pr1012, in jsk_pr2eus's test data: October and January
 2012), fixed on the recording that showed it; the designed reproductions are beside the code's own tests
-(tests/analysis/test_wtf_clocks_and_words.py, tests/sources/codecs/test_odometry_headers.py)."""
+(tests/analysis/test_wtf_clocks_and_words.py, tests/sources/codecs/test_odometry.py)."""
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
-from typing import Any
-
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.recordings import BY_ID, Corpus
+from tests.corpus.test_corpus35 import _findings  # one reading of wtf's JSON findings
 
 OCTOBER = "ros1-pr2-real-jsk-pr1012-tf1-eleven-publishers-building-map-odometry-fused-by-robot-pose-ekf-2012-bag"
 JANUARY = "ros1-pr2-real-jsk-pr1012-tf1-no-callerids-same-robot-nine-months-earlier-2012-bag"
-
-
-def _findings(tfx: Tfx, path: Path) -> tuple[int, list[dict[str, Any]]]:  # noqa: F811
-    result = tfx("wtf", path, "--format", "json")
-    (bag,) = json.loads(result.stdout)["bags"]
-    return result.code, bag["findings"]
 
 
 def test_odometry_robot_pose_ekf_fuses_is_a_note_naming_the_ekf_not_an_error(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811

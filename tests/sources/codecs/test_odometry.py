@@ -75,6 +75,26 @@ def test_an_odometry_given_cut_short_keeps_its_header_alone(encoding: str) -> No
 
 
 @pytest.mark.parametrize("encoding", ["ros1", "cdr"])
+def test_an_empty_child_is_read_as_empty_and_one_cut_inside_it_as_unknown(encoding: str) -> None:
+    """A real PR2's /base_odometry/odom (jsk_pr2eus's pr1012_sensors.bag) names an empty child_frame_id: read
+    as "", which ``targets.fused_edge`` tells from a child it names; a message ending inside its child_frame_id
+    states none (-1); the plain header decoder reads no child at all."""
+    whole = _payloads(encoding, [("odom", "base_footprint"), ("odom", "")])
+    (cut,) = _payloads(encoding, [("odom_combined", "base_link")])
+    child_at = (4 + 8 + 4 + 14 + 2) if encoding == "cdr" else (4 + 8 + 4 + 13 + 2)  # inside "base_link"
+    raw = np.frombuffer(b"".join([*whole, cut[:child_at]]), np.uint8)
+    lengths = np.array([len(whole[0]), len(whole[1]), child_at], np.int64)
+    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64)
+    frames = FrameNames()
+    headers = (ros1.decode_odometry if encoding == "ros1" else cdr.decode_odometry)(raw, starts, lengths, frames)
+    assert headers.failures == []
+    assert [frames.names[i] for i in headers.frame.tolist()] == ["odom", "odom", "odom_combined"]
+    assert [frames.names[i] if i >= 0 else "?" for i in headers.child.tolist()] == ["base_footprint", "", "?"]
+    plain = (ros1.decode_headers if encoding == "ros1" else cdr.decode_headers)(raw, starts, lengths, FrameNames())
+    assert plain.failures == [] and len(plain.child) == 0
+
+
+@pytest.mark.parametrize("encoding", ["ros1", "cdr"])
 def test_odometry_topics_are_read_by_the_odometry_decoder(encoding: str) -> None:
     codec, _ = select("/odom", "nav_msgs/Odometry" if encoding == "ros1" else ODOMETRY, encoding, Wanted(headers=()))
     assert codec is not None and getattr(codec, "decoder", "") == f"{encoding}.decode_odometry"
