@@ -163,6 +163,23 @@ def test_a_mount_missing_from_a_bag_without_tf_static_may_never_have_been_publis
     assert "rosbag record /tf /tf_static" in found.hint and "or run their publisher if none ran" in found.hint
 
 
+def test_data_in_map_without_tf_static_is_told_localization_not_a_mount() -> None:
+    """A real Guardian under a navigation controller (dynamic_robot_localization_tests' guardian_controller_2.bag):
+    odometry on /tf, no /tf_static in the bag, two goals in 'map' and no map -> odom. 'map' is no mount: the hint
+    names localization's transform, as `tfx filter` does, not the unrecorded /tf_static. A mount frame in the
+    same bag keeps the mounts' words."""
+    goals = sensor("/pose_goal", "map", 1, 5_000_000)
+    scene = Scene(recording(ekf(), ros1=True), streams=[goals, sensor("/scan", "laser", 10, 5_000_000)])
+    found = {f.frames: f for f in findings_of(scene) if f.code == "sensor_frame"}
+    (map_goal, mount) = found[("map",)], found[("laser",)]
+    assert map_goal.severity == Severity.error
+    assert "'map' is localization's frame (REP 105)" in map_goal.hint and "map -> odom" in map_goal.hint
+    assert "mounts" not in map_goal.hint and "/tf_static" not in map_goal.hint, map_goal.hint
+    assert (stream := next(s for s in scene.sensors.streams if s.topic == "/pose_goal")).unplaced
+    assert map_goal.hint.startswith(stream.unplaced)  # filter's words and wtf's are one
+    assert mount.hint.startswith("this recording holds no /tf_static (no such topic in it): the sensors' mounts")
+
+
 def test_a_mount_missing_from_a_tf1_recording_was_never_published() -> None:
     """A real tilting laser and Xsens IMU of 2012 (PlotJuggler's tilt_laser.bag): /tf of tf1's tf/tfMessage, its
     mounts on /tf from tf's static_transform_publisher, the IMU's data in base_imu, which nothing names. /tf_static

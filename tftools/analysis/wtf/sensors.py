@@ -196,6 +196,13 @@ def _unknown_frame_hint(
         # Before the statics' words: a Clearpath Husky of 2013 (ros-planning/navigation's gps_data.bag, tf1, no
         # /tf_static yet) has /encoder in odom_combined, robot_pose_ekf's frame, which no mount would ever name.
         return "no transform names it: " + odometry_tf_unpublished(listed([repr(f) for f in missing], 3), children)
+    # REP 105's frames before the mounts' words: a real Guardian's goals in 'map' (dynamic_robot_localization_tests'
+    # guardian_controller_2.bag, no /tf_static, no localization recorded) were blamed on unrecorded sensor mounts,
+    # while `tfx filter` named the missing map -> odom.
+    named = {base_name(f) for f in missing}
+    world = world_frame_unpublished(named, scene.buffer.has_frame("odom"), scene.sensors.target, scene.ros2)
+    if world is not None:
+        return world
     also = "; if the frame's name is a typo, set the driver's frame_id parameter instead" if typo else ""
     # Where tf1's /tf carried every mount and was recorded, both remedies, as `tfx filter` words them: a real robot
     # of 2013 (Ansrala/Delta_Project_3's teleop.bag) has its Hokuyo's scans in base_laser while its
@@ -207,10 +214,6 @@ def _unknown_frame_hint(
         return _not_described(scene, missing, unrecorded)
     if typo:
         return "set the driver's frame_id parameter to a frame of the tree (a typo?), or publish its transform"
-    named = {base_name(f) for f in missing}
-    world = world_frame_unpublished(named, scene.buffer.has_frame("odom"), scene.sensors.target, scene.ros2)
-    if world is not None:
-        return world
     static = (
         "ros2 run tf2_ros static_transform_publisher" if scene.ros2 else "rosrun tf2_ros static_transform_publisher"
     )
