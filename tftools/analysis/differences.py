@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import enum
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from tftools.analysis.expected import FrameShape, StaticValue, Tolerances, TreeShape
 from tftools.core.rotation import Quat, Vec3, rpy_rebuilding
@@ -26,12 +26,21 @@ class Change(str, enum.Enum):
     stopped = "stopped"  # a moving edge that stopped before its recording ended in one, sent to the end in the other
 
 
+class Part(str, enum.Enum):
+    """What an edge held still in both recordings is (``FrameShape.joint``), where both say the same."""
+
+    joint = "joint"  # held at another position: the robot's posture
+    fixed = "fixed"  # a fixed part's value: a calibration, or another description of the robot
+
+
 @dataclass(frozen=True)
 class Difference:
     """One frame's difference; ``before`` is the frame in A, ``after`` in B (None where absent).
     ``translation_mm``/``rotation_deg`` say how far a static edge (or what of one on /tf stays fixed) moved,
     ``rate_change`` the rate's relative change (B / A - 1, -1 where B has no rate; None where A has none; whether
-    it differs is ``rates_apart``'s), of the publisher ``source`` where the edge has several (None: the edge's)."""
+    it differs is ``rates_apart``'s), of the publisher ``source`` where the edge has several (None: the edge's).
+    ``part`` says what an edge held still in both is (a joint, a fixed part; None: not known), ``beneath`` how many
+    frames are below it in A: each moved with it, none a difference of its own for that."""
 
     change: Change
     frame: str
@@ -41,6 +50,8 @@ class Difference:
     rotation_deg: float = 0.0
     rate_change: float | None = 0.0
     source: str | None = None
+    part: Part | None = None
+    beneath: int = 0
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -54,7 +65,27 @@ def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Differen
         else:
             found.extend(_frame(before, after, tolerances))
     found.extend(Difference(Change.added, name, None, f) for name, f in b.frames.items() if name not in a.frames)
+    if any(d.part is not None for d in found):
+        below = _beneath(a)
+        found = [replace(d, beneath=below.get(d.frame, 0)) if d.part is not None else d for d in found]
     return found
+
+
+def _beneath(tree: TreeShape) -> dict[str, int]:
+    """How many frames are below each frame of ``tree`` (0 for a leaf; a loop's frames count none)."""
+    children: dict[str, list[str]] = {}
+    for f in tree.frames.values():
+        if f.parent is not None:
+            children.setdefault(f.parent, []).append(f.frame)
+    counts: dict[str, int] = {}
+    for root in (name for name, f in tree.frames.items() if f.parent is None):
+        order, stack = [], [root]
+        while stack:
+            order.append(stack.pop())
+            stack.extend(children.get(order[-1], ()))
+        for name in reversed(order):
+            counts[name] = sum(1 + counts[c] for c in children.get(name, ()))
+    return counts
 
 
 def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
@@ -151,7 +182,9 @@ def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) 
     mm = _mm_apart(t1, t2) if t1 is not None and t2 is not None else 0.0
     deg = _deg_apart(q1, q2) if q1 is not None and q2 is not None else 0.0
     if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
-        return [Difference(Change.moved, before.frame, before, after, translation_mm=mm, rotation_deg=deg)]
+        held = before.held is not None and after.held is not None and before.joint == after.joint
+        part = None if not held or before.joint is None else Part.joint if before.joint else Part.fixed
+        return [Difference(Change.moved, before.frame, before, after, mm, deg, part=part)]
     return []
 
 
@@ -243,6 +276,12 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"{_received(after)}. tf2 keeps the last received, so the order alone makes the kept values "
             f"{d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart"
         )
+    if d.change is Change.moved and d.part is not None and before.held is not None and after.held is not None:
+        what, why = _PARTS[d.part]
+        return (
+            f"{edge}, {what} {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart{why}: "
+            f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}"
+        )
     if d.change is Change.moved and before.held is not None and after.held is not None:
         return (
             f"{edge} (on /tf, never changing in either) moved by {d.translation_mm:.1f} mm and "
@@ -302,6 +341,22 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             "recording replayed with its own tf beside live nodes; tfx wtf says which)"
         )
     return f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+
+
+#: What an edge held still in both recordings is, by ``Part``.
+_PARTS = {
+    Part.joint: ("a joint (it came with the joints that move), held at positions", ""),
+    Part.fixed: (
+        "a fixed part (it came with the fixed transforms, apart from the joints), set",
+        " (a calibration, or another description of the robot)",
+    ),
+}
+
+
+def _with_it(beneath: int) -> str:
+    if not beneath:
+        return ""
+    return f"; the {beneath} frames beneath it moved with it" if beneath > 1 else "; the frame beneath it moved with it"
 
 
 def _s(ns: int) -> str:
