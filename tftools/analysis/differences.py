@@ -6,7 +6,8 @@ import enum
 import math
 from dataclasses import dataclass, replace
 
-from tftools.analysis.expected import FrameShape, StaticValue, Tolerances, TreeShape
+from tftools.analysis.expected import FrameShape, StaticValue, Tail, Tolerances, TreeShape
+from tftools.core.figures import STOP_FLOOR, silence_limit, stopped
 from tftools.core.rotation import Quat, Vec3, rpy_rebuilding
 from tftools.core.time import NS_PER_S
 
@@ -107,7 +108,7 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
         counted = before.clocks is not None and after.clocks is not None and before.clocks != after.clocks
         if counted and not any(d.change is Change.clocks for d in found):
             found.append(Difference(Change.clocks, name, before, after))
-        if before.tail is not None and after.tail is not None and before.tail.stopped != after.tail.stopped:
+        if _stopped_apart(before, after):
             found.append(Difference(Change.stopped, name, before, after))
     if not (before.static and after.static):
         found.extend(_fixed_parts(before, after, tolerances))
@@ -115,6 +116,18 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
     if known and set(before.publishers or ()) != set(after.publishers or ()):
         found.append(Difference(Change.publishers, name, before, after))
     return found
+
+
+def _stopped_apart(before: FrameShape, after: FrameShape) -> bool:
+    """Whether a moving edge stopped early in one recording and was sent to the end in the other, or stopped in
+    both at points (its last arrival, seconds into each recording) further apart than its own rate explains: more
+    than ``figures.silence_limit`` of the slower of its two rates. Sent to the end in both: no difference."""
+    was, now = before.tail, after.tail
+    if was is None or now is None or not (was.stopped or now.stopped):
+        return False
+    if was.stopped != now.stopped:
+        return True
+    return stopped(abs(was.arrived - now.arrived), min(before.rate_hz or 0.0, after.rate_hz or 0.0), STOP_FLOOR)
 
 
 def _rates(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
@@ -321,6 +334,13 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         apart = rates_apart(was, now)
         return f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower){sums}"
     if d.change is Change.stopped and before.tail is not None and after.tail is not None:
+        if before.tail.stopped and after.tail.stopped:
+            rate = min(before.rate_hz or 0.0, after.rate_hz or 0.0)
+            return (
+                f"{edge} stopped early in both, at points {_s(abs(before.tail.arrived - after.tail.arrived))} apart "
+                f"(more than its {_rate(rate)} explains: {_s(int(silence_limit(rate, STOP_FLOOR)))}): in {a} its last "
+                f"sample {_last(before.tail, a)}; in {b} {_last(after.tail, b)}"
+            )
         (early, tail), (other, sent) = sorted(((a, before.tail), (b, after.tail)), key=lambda side: not side[1].stopped)
         return (
             f"{edge} stopped early in {early}: its last sample (stamped {_stamp(tail.stamp)}) arrived "
@@ -357,6 +377,14 @@ def _with_it(beneath: int) -> str:
     if not beneath:
         return ""
     return f"; the {beneath} frames beneath it moved with it" if beneath > 1 else "; the frame beneath it moved with it"
+
+
+def _last(tail: Tail, side: str) -> str:
+    """Where an edge's last sample came in a recording it stopped early in."""
+    return (
+        f"(stamped {_stamp(tail.stamp)}) arrived {_s(tail.arrived)} into {side}'s {_s(tail.length)}, silent for its "
+        f"last {_s(tail.silent)}"
+    )
 
 
 def _s(ns: int) -> str:
