@@ -481,6 +481,25 @@ def test_an_edge_that_stopped_early_in_one_recording_only_is_said_once_with_its_
     assert Thresholds().stale_after * NS_PER_S == STOP_FLOOR  # a stop is the same to diff as to wtf's stale
 
 
+def test_an_edge_that_stopped_in_both_recordings_at_points_far_apart_is_said_with_each_point() -> None:
+    """Two runs whose odometry both stopped: in one at 4 s of 9.9, in the other at 8 s. diff compared only whether
+    it stopped, not where: nothing said. Points further apart than the edge's own rate explains (10 periods at 50 Hz,
+    at least ``STOP_FLOOR``) differ, with each last arrival against its recording's length; points 0.5 s apart
+    do not, nor an edge stopped at one point in both."""
+    early = shape_of(recording(healthy(ekf=ekf(end=4.0))))
+    late = shape_of(recording(healthy(ekf=ekf(end=8.0))))
+    (d,) = compare(early, late, Tolerances())
+    assert (d.change, d.frame) == (Change.stopped, "base_link")
+    assert describe(d) == (
+        "odom -> base_link stopped early in both, at points 4.0 s apart (more than its 50.0 Hz explains: 1.0 s): "
+        "in A its last sample (stamped 1700000003.980) arrived 4.0 s into A's 9.9 s, silent for its last 6.0 s; "
+        "in B (stamped 1700000007.980) arrived 8.0 s into B's 9.9 s, silent for its last 2.0 s"
+    ), describe(d)
+    near = shape_of(recording(healthy(ekf=ekf(end=4.5))))
+    assert compare(early, near, Tolerances()) == []
+    assert compare(late, late, Tolerances()) == []
+
+
 def _jittered(y: float, noise: float) -> Callable[[int], list[Transform]]:
     """A wheel held at (0, y, 0) whose every sample differs from the last at float rounding (``noise`` m and rad)."""
     return lambda stamp: [

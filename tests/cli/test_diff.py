@@ -94,6 +94,51 @@ def test_diff_says_how_far_a_mount_sent_on_tf_moved_never_changing_in_either(tfx
     assert tfx("diff", before, write(tmp_path, "again", BagFormat.ros1, _mount_on_tf(0.0))).code == 0
 
 
+def _tf1_robot(torso_z: float, camera_x: float) -> list[TfMessage]:
+    """A healthy run whose /rsp sends its joints in one message at 25 Hz (the wheel turning, the torso and the arm
+    held still) and its fixed transforms in another at 50 Hz (tf1's robot_state_publisher, the real PR2's)."""
+
+    def joints(stamp: int) -> list[Transform]:
+        return [
+            *_turning_wheel(stamp),
+            Transform.from_rpy((-0.05, 0.0, torso_z), (0.0, 0.0, 0.0), stamp, "base_link", "torso"),
+            Transform.from_rpy((0.0, 0.19, 0.0), (0.0, 0.0, 0.4), stamp, "torso", "arm"),
+        ]
+
+    def fixed(stamp: int) -> list[Transform]:
+        return [
+            Transform.from_rpy((0.2, 0.0, 0.3), (0.0, 0.0, 0.0), stamp, "base_link", "laser_mount"),
+            Transform.from_rpy((camera_x, 0.06, 0.04), (0.0, 0.0, 0.0), stamp, "torso", "head_camera"),
+        ]
+
+    return healthy(wheels=[*periodic("/rsp", 25, joints), *periodic("/rsp", 50, fixed, phase=0.003)])
+
+
+def test_diff_tells_a_joint_held_elsewhere_from_a_calibration(tfx: Tfx, tmp_path: Path) -> None:
+    """The real PR2 of JSK in October and January 2012 (tf1: every edge on /tf, the robot still): its torso held
+    98 mm lower and its stereo camera's mount 23 mm apart were both 'moved (on /tf, never changing in either)'.
+    An edge that came with the joints that move is a joint held elsewhere, one that came with the fixed
+    transforms a calibration; the frames beneath are not differences of their own."""
+    before = write(tmp_path, "october", BagFormat.ros1, _tf1_robot(0.85, 0.035))
+    after = write(tmp_path, "january", BagFormat.ros1, _tf1_robot(0.75, 0.057))
+    result = tfx("diff", before, after, "--format", "json")
+    found = {d["frame"]: d for d in json.loads(result.stdout)["differences"]}
+    assert sorted(found) == ["head_camera", "torso"], found
+    torso, camera = found["torso"], found["head_camera"]
+    assert (torso["part"], torso["beneath"], round(torso["translation_mm"], 1)) == ("joint", 2, 100.0)
+    assert torso["message"] == (
+        "base_link -> torso, a joint (it came with the joints that move), held at positions 100.0 mm and 0.00° "
+        "apart: xyz [-0.0500, 0.0000, 0.8500] m rpy [0.00, 0.00, 0.00]° in A, xyz [-0.0500, 0.0000, 0.7500] m rpy "
+        "[0.00, 0.00, 0.00]° in B; the 2 frames beneath it moved with it"
+    )
+    assert (camera["part"], camera["beneath"], round(camera["translation_mm"], 1)) == ("fixed", 0, 22.0)
+    assert camera["message"].startswith(
+        "torso -> head_camera, a fixed part (it came with the fixed transforms, apart from the joints), set 22.0 mm "
+        "and 0.00° apart (a calibration, or another description of the robot): xyz [0.0350, 0.0600, 0.0400] m"
+    ), camera["message"]
+    assert result.code == 1
+
+
 def _laser_held_on_tf(laser_x: float) -> list[TfMessage]:
     """A healthy run whose simulator sends the laser mount on /tf at 50 Hz, never changing, at x = ``laser_x``
     (the camera stays on /tf_static, the wheel turns about the healthy run's origin)."""

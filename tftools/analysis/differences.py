@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import enum
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
-from tftools.analysis.expected import FrameShape, StaticValue, Tolerances, TreeShape
+from tftools.analysis.expected import FrameShape, StaticValue, Tail, Tolerances, TreeShape
+from tftools.core.figures import STOP_FLOOR, silence_limit, stopped
 from tftools.core.rotation import Quat, Vec3, rpy_rebuilding
 from tftools.core.time import NS_PER_S
 
@@ -26,12 +27,21 @@ class Change(str, enum.Enum):
     stopped = "stopped"  # a moving edge that stopped before its recording ended in one, sent to the end in the other
 
 
+class Part(str, enum.Enum):
+    """What an edge held still in both recordings is (``FrameShape.joint``), where both say the same."""
+
+    joint = "joint"  # held at another position: the robot's posture
+    fixed = "fixed"  # a fixed part's value: a calibration, or another description of the robot
+
+
 @dataclass(frozen=True)
 class Difference:
     """One frame's difference; ``before`` is the frame in A, ``after`` in B (None where absent).
     ``translation_mm``/``rotation_deg`` say how far a static edge (or what of one on /tf stays fixed) moved,
     ``rate_change`` the rate's relative change (B / A - 1, -1 where B has no rate; None where A has none; whether
-    it differs is ``rates_apart``'s), of the publisher ``source`` where the edge has several (None: the edge's)."""
+    it differs is ``rates_apart``'s), of the publisher ``source`` where the edge has several (None: the edge's).
+    ``part`` says what an edge held still in both is (a joint, a fixed part; None: not known), ``beneath`` how many
+    frames are below it in A: each moved with it, none a difference of its own for that."""
 
     change: Change
     frame: str
@@ -41,6 +51,8 @@ class Difference:
     rotation_deg: float = 0.0
     rate_change: float | None = 0.0
     source: str | None = None
+    part: Part | None = None
+    beneath: int = 0
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -54,7 +66,27 @@ def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Differen
         else:
             found.extend(_frame(before, after, tolerances))
     found.extend(Difference(Change.added, name, None, f) for name, f in b.frames.items() if name not in a.frames)
+    if any(d.part is not None for d in found):
+        below = _beneath(a)
+        found = [replace(d, beneath=below.get(d.frame, 0)) if d.part is not None else d for d in found]
     return found
+
+
+def _beneath(tree: TreeShape) -> dict[str, int]:
+    """How many frames are below each frame of ``tree`` (0 for a leaf; a loop's frames count none)."""
+    children: dict[str, list[str]] = {}
+    for f in tree.frames.values():
+        if f.parent is not None:
+            children.setdefault(f.parent, []).append(f.frame)
+    counts: dict[str, int] = {}
+    for root in (name for name, f in tree.frames.items() if f.parent is None):
+        order, stack = [], [root]
+        while stack:
+            order.append(stack.pop())
+            stack.extend(children.get(order[-1], ()))
+        for name in reversed(order):
+            counts[name] = sum(1 + counts[c] for c in children.get(name, ()))
+    return counts
 
 
 def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
@@ -76,7 +108,7 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
         counted = before.clocks is not None and after.clocks is not None and before.clocks != after.clocks
         if counted and not any(d.change is Change.clocks for d in found):
             found.append(Difference(Change.clocks, name, before, after))
-        if before.tail is not None and after.tail is not None and before.tail.stopped != after.tail.stopped:
+        if _stopped_apart(before, after):
             found.append(Difference(Change.stopped, name, before, after))
     if not (before.static and after.static):
         found.extend(_fixed_parts(before, after, tolerances))
@@ -84,6 +116,18 @@ def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> lis
     if known and set(before.publishers or ()) != set(after.publishers or ()):
         found.append(Difference(Change.publishers, name, before, after))
     return found
+
+
+def _stopped_apart(before: FrameShape, after: FrameShape) -> bool:
+    """Whether a moving edge stopped early in one recording and was sent to the end in the other, or stopped in
+    both at points (its last arrival, seconds into each recording) further apart than its own rate explains: more
+    than ``figures.silence_limit`` of the slower of its two rates. Sent to the end in both: no difference."""
+    was, now = before.tail, after.tail
+    if was is None or now is None or not (was.stopped or now.stopped):
+        return False
+    if was.stopped != now.stopped:
+        return True
+    return stopped(abs(was.arrived - now.arrived), min(before.rate_hz or 0.0, after.rate_hz or 0.0), STOP_FLOOR)
 
 
 def _rates(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
@@ -151,7 +195,9 @@ def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) 
     mm = _mm_apart(t1, t2) if t1 is not None and t2 is not None else 0.0
     deg = _deg_apart(q1, q2) if q1 is not None and q2 is not None else 0.0
     if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
-        return [Difference(Change.moved, before.frame, before, after, translation_mm=mm, rotation_deg=deg)]
+        held = before.held is not None and after.held is not None and before.joint == after.joint
+        part = None if not held or before.joint is None else Part.joint if before.joint else Part.fixed
+        return [Difference(Change.moved, before.frame, before, after, mm, deg, part=part)]
     return []
 
 
@@ -243,6 +289,12 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"{_received(after)}. tf2 keeps the last received, so the order alone makes the kept values "
             f"{d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart"
         )
+    if d.change is Change.moved and d.part is not None and before.held is not None and after.held is not None:
+        what, why = _PARTS[d.part]
+        return (
+            f"{edge}, {what} {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart{why}: "
+            f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}"
+        )
     if d.change is Change.moved and before.held is not None and after.held is not None:
         return (
             f"{edge} (on /tf, never changing in either) moved by {d.translation_mm:.1f} mm and "
@@ -282,6 +334,13 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         apart = rates_apart(was, now)
         return f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower){sums}"
     if d.change is Change.stopped and before.tail is not None and after.tail is not None:
+        if before.tail.stopped and after.tail.stopped:
+            rate = min(before.rate_hz or 0.0, after.rate_hz or 0.0)
+            return (
+                f"{edge} stopped early in both, at points {_s(abs(before.tail.arrived - after.tail.arrived))} apart "
+                f"(more than its {_rate(rate)} explains: {_s(int(silence_limit(rate, STOP_FLOOR)))}): in {a} its last "
+                f"sample {_last(before.tail, a)}; in {b} {_last(after.tail, b)}"
+            )
         (early, tail), (other, sent) = sorted(((a, before.tail), (b, after.tail)), key=lambda side: not side[1].stopped)
         return (
             f"{edge} stopped early in {early}: its last sample (stamped {_stamp(tail.stamp)}) arrived "
@@ -302,6 +361,30 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             "recording replayed with its own tf beside live nodes; tfx wtf says which)"
         )
     return f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+
+
+#: What an edge held still in both recordings is, by ``Part``.
+_PARTS = {
+    Part.joint: ("a joint (it came with the joints that move), held at positions", ""),
+    Part.fixed: (
+        "a fixed part (it came with the fixed transforms, apart from the joints), set",
+        " (a calibration, or another description of the robot)",
+    ),
+}
+
+
+def _with_it(beneath: int) -> str:
+    if not beneath:
+        return ""
+    return f"; the {beneath} frames beneath it moved with it" if beneath > 1 else "; the frame beneath it moved with it"
+
+
+def _last(tail: Tail, side: str) -> str:
+    """Where an edge's last sample came in a recording it stopped early in."""
+    return (
+        f"(stamped {_stamp(tail.stamp)}) arrived {_s(tail.arrived)} into {side}'s {_s(tail.length)}, silent for its "
+        f"last {_s(tail.silent)}"
+    )
 
 
 def _s(ns: int) -> str:

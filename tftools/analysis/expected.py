@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 import numpy.typing as npt
@@ -136,6 +136,9 @@ class FrameShape:
     pace: float | None = None
     #: How a moving edge's samples end (``Tail``); None where not known (a tree file, a URDF, no record times).
     tail: Tail | None = None
+    #: Of a moving edge held still (``held``), what it is by the messages it came in (``joints``): a joint (True),
+    #: a fixed part (False), or not known (None: a tree file, a URDF, an edge sent alone or with nothing that moves).
+    joint: bool | None = None
 
 
 @dataclass(frozen=True)
@@ -188,7 +191,39 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             pace=_pace(moving) if moving is not None else None,
             tail=_tail(moving, summary.rate_hz, recording) if moving is not None else None,
         )
+    for name, joint in joints(buffer, frames).items():
+        frames[name] = replace(frames[name], joint=joint)
     return TreeShape(frames, " + ".join(recording.paths))
+
+
+def joints(buffer: Buffer, frames: dict[str, FrameShape]) -> dict[str, bool]:
+    """Which moving edges held still (``held``) are joints and which fixed parts, by the messages they came in
+    (edges of one message share its record time, stamp and publisher): a joint where it came with edges that move
+    (a joint state publisher's joints), a fixed part where it came with several edges none of which moves while
+    the recording sends its joints apart from them (tf1's robot_state_publisher: its fixed transforms at 50 Hz,
+    its joints at /joint_states' rate). Empty where the recording sends no joints so: an arm held still whole
+    (every edge held) tells no joint from a fixed part."""
+    groups: dict[tuple[int, int], list[str]] = {}
+    for name, f in frames.items():
+        hist = buffer.history(name)
+        if f.static or hist is None or len(hist) < 2:
+            continue
+        mine = hist.parents == hist.latest_parent
+        records, stamps = hist.record_times[mine], hist.stamps[mine]
+        if len(records) and records.min() > 0:
+            order = np.lexsort((stamps, records))
+            sent = np.stack([records[order], stamps[order], hist.authorities[mine][order].astype(np.int64)])
+            groups.setdefault((len(records), hash(sent.tobytes())), []).append(name)
+    moves = [[frames[n].held is None for n in names] for names in groups.values()]
+    if not any(len(m) > 1 and any(m) and not all(m) for m in moves):
+        return {}
+    return {
+        name: any(m)
+        for names, m in zip(groups.values(), moves, strict=True)
+        if len(names) > 1
+        for name, moving in zip(names, m, strict=True)
+        if not moving
+    }
 
 
 def held(hist: EdgeHistory) -> StaticValue | None:

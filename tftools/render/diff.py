@@ -58,4 +58,6 @@ def _difference(d: Difference) -> dict[str, Any]:
         "rotation_deg": d.rotation_deg,
         "rate_change": d.rate_change,
         "source": d.source,
+        "part": d.part.value if d.part is not None else None,
+        "beneath": d.beneath,
     }

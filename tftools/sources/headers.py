@@ -10,10 +10,9 @@ from itertools import groupby
 
 import numpy as np
 
-from tftools.core.arrays import Int64Array
+from tftools.core.arrays import Int32Array, Int64Array
 from tftools.core.frames import Names
 from tftools.sources.codecs.decoded import Header, Stated
-from tftools.sources.codecs.gather import first_and_inverse
 from tftools.sources.contents import StampedMessages
 
 
@@ -92,50 +91,43 @@ class HeaderCollector:
 
 def merged(streams: Sequence[StampedMessages]) -> list[StampedMessages]:
     """One stream per topic of several (a split recording's files), in topic order, each in record
-    time order (ties keep their order) and naming only its messages' frames, as they first come."""
+    time order (ties keep their order) and naming only its messages' frames (and children), as they first come."""
     merged = []
     for topic, parts in groupby(sorted(streams, key=lambda s: s.topic), key=lambda s: s.topic):
         pieces = list(parts)
         record_time = np.concatenate([p.record_time for p in pieces])
         order = np.argsort(record_time, kind="stable")
-        offsets = np.cumsum([0] + [len(p.frame_ids) for p in pieces]).tolist()
-        frame = np.concatenate([p.frame + offset for p, offset in zip(pieces, offsets, strict=False)])[order]
-        every_name = [name for p in pieces for name in p.frame_ids]
-        firsts, inverse = first_and_inverse(frame)
-        names = Names()
-        ids = np.array([names.intern(every_name[i]) for i in frame[np.sort(firsts)].tolist()], np.int32)
-        renumbered = np.empty(len(firsts), np.int32)
-        renumbered[np.argsort(firsts, kind="stable")] = ids
+        frame, frame_ids = _as_they_come([p.frame for p in pieces], [p.frame_ids for p in pieces], order)
         stamp = np.concatenate([p.stamp for p in pieces])[order]
         ordered = all(p.ordered for p in pieces)
         before = np.concatenate([p.tf_before for p in pieces])[order] if ordered else np.zeros(0, np.int64)
-        stream = StampedMessages(
-            topic, pieces[0].type, record_time[order], stamp, renumbered[inverse], names.names, before
-        )
+        stream = StampedMessages(topic, pieces[0].type, record_time[order], stamp, frame, frame_ids, before)
         if all(p.states_transforms or not len(p) for p in pieces) and any(p.states_transforms for p in pieces):
-            stream = _with_children(stream, pieces, order)
+            child, child_ids = _as_they_come([p.child for p in pieces], [p.child_ids for p in pieces], order)
+            pose = np.concatenate([p.pose for p in pieces])[order]
+            stream = dataclasses.replace(stream, child=child, pose=pose, child_ids=child_ids)
         merged.append(stream)
     return merged
 
 
-def _with_children(stream: StampedMessages, pieces: Sequence[StampedMessages], order: Int64Array) -> StampedMessages:
-    """``stream`` with the transforms its ``pieces`` state (``StampedMessages.child``), in the same ``order``, each
-    child named once in the names of the children alone."""
+def _as_they_come(
+    ids: Sequence[Int32Array], tables: Sequence[Sequence[str]], order: Int64Array
+) -> tuple[Int32Array, list[str]]:
+    """Each piece's ``ids`` (indices into its own of ``tables``, -1 for none), joined in ``order`` and numbered
+    in one table of the names they use, as they first come: a reader may hand over its file's whole frame table."""
+    offsets = np.cumsum([0] + [len(t) for t in tables[:-1]]).tolist()
+    joined = np.concatenate([np.where(i >= 0, i + offset, -1) for i, offset in zip(ids, offsets, strict=True)])
+    joined = joined[order]
+    named = joined >= 0
+    used = joined[named]
+    first = np.full(sum(len(t) for t in tables), len(used), np.int64)
+    np.minimum.at(first, used, np.arange(len(used)))  # no sort of every message: the tables are small
+    seen = np.flatnonzero(first < len(used))
+    every_name = [name for table in tables for name in table]
     names = Names()
-    children = []
-    for p in pieces:
-        table = np.array([names.intern(n) for n in p.child_ids] or [0], np.int32)
-        children.append(np.where(p.child >= 0, table[np.maximum(p.child, 0)], -1).astype(np.int32))
-    pose = np.concatenate([p.pose for p in pieces])[order]
-    child = np.concatenate(children)[order]
-    used = sorted(set(child[child >= 0].tolist()))
-    compact = Names()
-    renumber = np.full(max(len(names.names), 1), -1, np.int32)
-    for k in used:
-        renumber[k] = compact.intern(names.names[k])
-    return dataclasses.replace(
-        stream,
-        child=np.where(child >= 0, renumber[np.maximum(child, 0)], -1).astype(np.int32),
-        pose=pose,
-        child_ids=list(compact.names),
-    )
+    renumbered = np.full(len(first), -1, np.int32)
+    for k in seen[np.argsort(first[seen], kind="stable")].tolist():
+        renumbered[k] = names.intern(every_name[k])
+    numbered = np.full(len(joined), -1, np.int32)
+    numbered[named] = renumbered[used]
+    return numbered, list(names.names)
