@@ -4,7 +4,6 @@ Each stretch runs from the last message read before the damage to the first read
 
 from __future__ import annotations
 
-import random
 import sqlite3
 import tracemalloc
 from contextlib import closing
@@ -14,21 +13,13 @@ from mcap.writer import CompressionType
 
 from tests.corpus.variants import rewrite_mcap
 from tests.sources.bag.damaged import TOPICS, copied, cut
+from tests.sources.bag.damaged import overwritten as _overwritten
 from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import batch_rows
 from tftools.sources.bag.rosbag2.db3_salvage import salvage
 from tftools.sources.storage.source import FileSource
 
 UWB = "uwb-slam-Record_2017-11-17-12-31-28.bag"  # ROS 1, 27 lz4 chunks
-
-
-def _overwritten(path: Path, share: float, length: int = 16, seed: int = 43) -> None:
-    """``length`` bytes from ``share`` of the file overwritten with seeded noise."""
-    data = bytearray(path.read_bytes())
-    at = int(len(data) * share)
-    rng = random.Random(seed)
-    data[at : at + length] = bytes(rng.randrange(256) for _ in range(length))
-    path.write_bytes(bytes(data))
 
 
 def _zeroed_pages(db3: Path, share: float, length: int = 1 << 16) -> None:
