@@ -13,7 +13,7 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import shared_dir
-from tests.sources.bag.damaged import copied, cut
+from tests.sources.bag.damaged import copied, cut, zeroed_pages
 from tests.sources.bag.damaged import overwritten as _overwritten
 
 UWB = "uwb-slam-Record_2017-11-17-12-31-28.bag"  # ROS 1, 27 lz4 chunks, a Robotino's odometry and wheels
@@ -137,6 +137,16 @@ def _flipped_at(share: float) -> Callable[[Path], None]:
     return lambda path: _overwritten(path, share)
 
 
+def _flipped_and_cut(share: float, kept: float) -> Callable[[Path], None]:
+    """Overwritten at ``share``, then cut to ``kept`` of its size: before its index or summary."""
+
+    def damage(path: Path) -> None:
+        _overwritten(path, share)
+        cut(path, int(path.stat().st_size * kept))
+
+    return damage
+
+
 #: A real recording of each format and a damage to its copy (of its one data file, in a bag directory).
 DAMAGED: dict[str, tuple[str, Callable[[Path], None]]] = {
     "ros1 plain, cut": ("ros1_car_path_follower.bag", _cut_at(0.6)),
@@ -147,6 +157,9 @@ DAMAGED: dict[str, tuple[str, Callable[[Path], None]]] = {
     "mcap zstd, overwritten": ("ros2_mcap_nav2_turtlebot4.mcap", _flipped_at(0.45)),
     "mcap zstd, cut": ("ros2_mcap_nav2_turtlebot4.mcap", _cut_at(0.6)),
     "mcap uncompressed, cut": ("ros2_mcap_coug_auv_replayed", _cut_at(0.6)),
+    "ros1 lz4, overwritten, no index": (UWB, _flipped_and_cut(0.45, 0.97)),
+    "mcap zstd, overwritten, no summary": ("ros2_mcap_nav2_turtlebot4.mcap", _flipped_and_cut(0.45, 0.97)),
+    "db3, pages zeroed": ("ros2_db3_tb3_gazebo_walker", lambda path: zeroed_pages(path, 0.45)),
 }
 
 
@@ -157,13 +170,15 @@ def test_every_command_on_a_damaged_copy_says_so_and_reads_the_rest(
     tfx: Tfx,  # noqa: F811
     tmp_path: Path,
 ) -> None:
-    """frames, wtf, monitor, view-frames, report, filter, echo and diff (against the intact recording) on the
-    damaged copy: each exits 0, 1 or 2 (a damaged file is never taken for a healthy one's verdict alone), with
-    no traceback, and says the damage: on stdout (wtf, report's page) or as a warning on stderr."""
+    """frames, wtf, monitor, view-frames, report, filter, echo, diff (against the intact recording) and static
+    --repair (a copy: written whole or not at all) on the damaged copy: each exits 0, 1 or 2 (a damaged file is
+    never taken for a healthy one's verdict alone), with no traceback, and says the damage: on stdout (wtf,
+    report's page, diff) or as a warning on stderr."""
     name, damage = DAMAGED[case]
     original = _original(name)
     bag = copied(name, tmp_path)
     damage(next(p for p in sorted(bag.iterdir()) if p.suffix in (".db3", ".mcap")) if bag.is_dir() else bag)
+    repaired = tmp_path / f"repaired{bag.suffix}"
     frames = _json(tfx, "frames", "-b", bag)
     moving = [(f["parent"], f["frame"]) for f in frames["frames"] if f["parent"] and not f["static"]]
     runs = {
@@ -174,7 +189,9 @@ def test_every_command_on_a_damaged_copy_says_so_and_reads_the_rest(
         "filter": tfx("filter", "-b", bag),
         "diff": tfx("diff", original, bag),
         "echo": tfx("echo", *moving[0], "-b", bag, "--at", "+1"),
+        "static": tfx("static", "--repair", "-b", bag, "-o", repaired),
     }
+    assert runs["static"].code in (0, 2) and (runs["static"].code == 0) == repaired.exists()  # no half copy
     said = ("damaged", "cut short", "truncated", "lost")
     for command, result in runs.items():
         assert result.code in (0, 1, 2), f"{command}: exit {result.code}"

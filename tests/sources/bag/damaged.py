@@ -40,6 +40,14 @@ def overwritten(path: Path, share: float, seed: int = 43, length: int = 16) -> N
     path.write_bytes(bytes(data))
 
 
+def zeroed_pages(db3: Path, share: float, length: int = 1 << 16) -> None:
+    """``length`` bytes of whole pages zeroed from ``share`` of a .db3 (its pages are 4 KiB)."""
+    data = bytearray(db3.read_bytes())
+    at = int(len(data) * share) // 4096 * 4096
+    data[at : at + length] = bytes(length)
+    db3.write_bytes(bytes(data))
+
+
 def cut(path: Path, size: int) -> None:
     with path.open("r+b") as f:
         f.truncate(size)

@@ -12,7 +12,7 @@ from pathlib import Path
 from mcap.writer import CompressionType
 
 from tests.corpus.variants import rewrite_mcap
-from tests.sources.bag.damaged import TOPICS, copied, cut
+from tests.sources.bag.damaged import TOPICS, copied, cut, zeroed_pages
 from tests.sources.bag.damaged import overwritten as _overwritten
 from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import batch_rows
@@ -20,14 +20,6 @@ from tftools.sources.bag.rosbag2.db3_salvage import salvage
 from tftools.sources.storage.source import FileSource
 
 UWB = "uwb-slam-Record_2017-11-17-12-31-28.bag"  # ROS 1, 27 lz4 chunks
-
-
-def _zeroed_pages(db3: Path, share: float, length: int = 1 << 16) -> None:
-    """``length`` bytes of whole pages zeroed from ``share`` of a .db3 (its pages are 4 KiB)."""
-    data = bytearray(db3.read_bytes())
-    at = int(len(data) * share) // 4096 * 4096
-    data[at : at + length] = bytes(length)
-    db3.write_bytes(bytes(data))
 
 
 def _damaged(path: Path) -> tuple[list[tuple[int, int]], list[int]]:
@@ -84,7 +76,7 @@ def test_a_real_db3_read_from_its_pages_says_where_its_lost_pages_held_messages(
     (db3,) = bag.glob("*.db3")
     with closing(sqlite3.connect(db3)) as db:
         intact = [t for (t,) in db.execute("SELECT timestamp FROM messages WHERE topic_id IN (2, 8)")]
-    _zeroed_pages(db3, 0.45)
+    zeroed_pages(db3, 0.45)
     (span,), times = _damaged(bag)
     inside = [t for t in intact if span[0] < t < span[1]]
     assert inside and _holds_none_of(span, times)
