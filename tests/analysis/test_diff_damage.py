@@ -23,7 +23,7 @@ def test_a_frame_missing_from_the_damaged_side_is_said_perhaps_lost_with_it() ->
         "",  # added in B: A, read whole, did not lose it
     )
     assert damage_notes([added], Damaged("cut short"), None) == (
-        "A is damaged: read only in part (cut short); the frame may have been sent only in what was lost",
+        "A was read only in part (cut short); the frame may have been sent only in what was lost",
     )
 
 

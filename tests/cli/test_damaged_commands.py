@@ -119,7 +119,10 @@ def test_diff_says_a_difference_the_damage_made_in_its_output(
     lost = re.compile(r"^B is damaged: its transforms from 48\.\d s to 69\.\d s into it were lost; the transforms lost")
     assert all(lost.match(d["damage"]) for d in rates), rates
     text = tfx("diff", intact, damaged).stdout
-    assert text.count("(B is damaged: its transforms from 48.") == 4 and "damaged, compared as far as it could" in text
+    assert (
+        text.count("(B is damaged: its transforms from 48.") == 4
+        and "read only in part, compared as far as it could be read: " in text
+    )
     swapped = _json(tfx, "diff", damaged, intact)
     assert all(d["damage"].startswith("A is damaged: ") for d in swapped["differences"]) and swapped["a_damaged"]
     same = _json(tfx, "diff", intact, intact)

@@ -23,12 +23,12 @@ def write_text(
     notes: Sequence[str] = (),
     damaged: tuple[str, str] = ("", ""),
 ) -> None:
-    """Which is A and which B (a damaged one said so: ``damaged``, its first problem), each difference on its line
-    (with what says a damaged side may have made it: ``notes``, one a difference), and a verdict naming the
-    tolerances."""
+    """Which is A and which B (one read only in part said so: ``damaged``, its first problem), each difference
+    on its line (with what says a damaged side may have made it: ``notes``, one a difference), and a verdict
+    naming the tolerances."""
     for label, tree, problem in (("A", a, damaged[0]), ("B", b, damaged[1])):
         frames = f"0 frames: {tree.empty}" if tree.empty else f"{len(tree.frames)} frames"
-        frames += f"; damaged, compared as far as it could be read: {problem}" if problem else ""
+        frames += f"; read only in part, compared as far as it could be read: {problem}" if problem else ""
         out.write(printable(f"{label}: {tree.source} ({frames})") + "\n")
     for d, note in zip(differences, notes or [""] * len(differences), strict=True):
         said = f" ({note})" if note else ""

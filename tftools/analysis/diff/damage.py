@@ -64,10 +64,9 @@ def _note(d: Difference, a: Damaged | None, b: Damaged | None, names: tuple[str,
 def _said(name: str, damaged: Damaged | None, why: str) -> str:
     if damaged is None:
         return ""
-    if damaged.lost:
-        (first, last), more = damaged.lost[0], len(damaged.lost) - 1
-        where = f"its transforms from {first / 1e9:.1f} s to {last / 1e9:.1f} s into it were lost"
-        where += f" (and in {more} more stretch{'es' if more > 1 else ''})" if more else ""
-    else:
-        where = f"read only in part ({damaged.problem})"
+    if not damaged.lost:
+        return f"{name} was read only in part ({damaged.problem}); {why}"
+    (first, last), more = damaged.lost[0], len(damaged.lost) - 1
+    where = f"its transforms from {first / 1e9:.1f} s to {last / 1e9:.1f} s into it were lost"
+    where += f" (and in {more} more stretch{'es' if more > 1 else ''})" if more else ""
     return f"{name} is damaged: {where}; {why}"
