@@ -4,7 +4,7 @@ in one line, uses what is readable, and does not report a stretch the file lost 
 from __future__ import annotations
 
 import json
-import random
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -13,18 +13,10 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import shared_dir
-from tests.sources.bag.damaged import copied, cut
+from tests.sources.bag.damaged import copied, cut, zeroed_pages
+from tests.sources.bag.damaged import overwritten as _overwritten
 
 UWB = "uwb-slam-Record_2017-11-17-12-31-28.bag"  # ROS 1, 27 lz4 chunks, a Robotino's odometry and wheels
-
-
-def _overwritten(path: Path, at: float, seed: int = 43, length: int = 16) -> None:
-    """``length`` bytes from ``at`` (a share of the file) overwritten with seeded noise."""
-    data = bytearray(path.read_bytes())
-    start = int(len(data) * at)
-    rng = random.Random(seed)
-    data[start : start + length] = bytes(rng.randrange(256) for _ in range(length))
-    path.write_bytes(bytes(data))
 
 
 def _original(name: str) -> Path:
@@ -98,6 +90,45 @@ def test_a_pause_beside_a_lost_stretch_keeps_its_own_finding_and_says_where_the_
     assert sorted(e["child"] for e in edges if e["gap_in_damage"]) == ["base_link", "left_wheel", "odom", "right_wheel"]
 
 
+@pytest.mark.parametrize("summary", [True, False])
+def test_diff_says_a_difference_the_damage_made_in_its_output(
+    tfx: Tfx,  # noqa: F811
+    tmp_path: Path,
+    summary: bool,
+) -> None:
+    """The Nav2 TurtleBot 4 in lz4 chunks against its copy with 16 bytes overwritten at 45% (read through its
+    summary, or cut before it and read record by record): each edge's rate is 22% lower in the copy, the 20.8 s
+    its damaged chunk lost counted as silence. Before, only stderr said the copy was damaged, and the rate
+    differences read as the robot's; now each says so, in the text and in JSON (``damage``, ``b_damaged``)."""
+    from mcap.writer import CompressionType
+
+    from tests.corpus.variants import rewrite_mcap
+
+    intact = rewrite_mcap(
+        copied("ros2_mcap_nav2_turtlebot4.mcap", tmp_path), tmp_path / "lz4.mcap", compression=CompressionType.LZ4
+    )
+    damaged = tmp_path / "damaged.mcap"
+    damaged.write_bytes(intact.read_bytes())
+    _overwritten(damaged, 0.45)
+    if not summary:
+        cut(damaged, int(damaged.stat().st_size * 0.97))
+    found = _json(tfx, "diff", intact, damaged)
+    assert found["a_damaged"] is None and "is damaged (lz4 chunk cannot be decompressed whole" in found["b_damaged"]
+    rates = [d for d in found["differences"] if d["change"] == "rate"]
+    assert len(rates) == 4 and len(found["differences"]) == 4
+    lost = re.compile(r"^B is damaged: its transforms from 48\.\d s to 69\.\d s into it were lost; the transforms lost")
+    assert all(lost.match(d["damage"]) for d in rates), rates
+    text = tfx("diff", intact, damaged).stdout
+    assert (
+        text.count("(B is damaged: its transforms from 48.") == 4
+        and "read only in part, compared as far as it could be read: " in text
+    )
+    swapped = _json(tfx, "diff", damaged, intact)
+    assert all(d["damage"].startswith("A is damaged: ") for d in swapped["differences"]) and swapped["a_damaged"]
+    same = _json(tfx, "diff", intact, intact)
+    assert (same["a_damaged"], same["b_damaged"], same["differences"]) == (None, None, [])
+
+
 def _cut_at(share: float) -> Callable[[Path], None]:
     def damage(path: Path) -> None:
         cut(path, int(path.stat().st_size * share))
@@ -107,6 +138,16 @@ def _cut_at(share: float) -> Callable[[Path], None]:
 
 def _flipped_at(share: float) -> Callable[[Path], None]:
     return lambda path: _overwritten(path, share)
+
+
+def _flipped_and_cut(share: float, kept: float) -> Callable[[Path], None]:
+    """Overwritten at ``share``, then cut to ``kept`` of its size: before its index or summary."""
+
+    def damage(path: Path) -> None:
+        _overwritten(path, share)
+        cut(path, int(path.stat().st_size * kept))
+
+    return damage
 
 
 #: A real recording of each format and a damage to its copy (of its one data file, in a bag directory).
@@ -119,6 +160,9 @@ DAMAGED: dict[str, tuple[str, Callable[[Path], None]]] = {
     "mcap zstd, overwritten": ("ros2_mcap_nav2_turtlebot4.mcap", _flipped_at(0.45)),
     "mcap zstd, cut": ("ros2_mcap_nav2_turtlebot4.mcap", _cut_at(0.6)),
     "mcap uncompressed, cut": ("ros2_mcap_coug_auv_replayed", _cut_at(0.6)),
+    "ros1 lz4, overwritten, no index": (UWB, _flipped_and_cut(0.45, 0.97)),
+    "mcap zstd, overwritten, no summary": ("ros2_mcap_nav2_turtlebot4.mcap", _flipped_and_cut(0.45, 0.97)),
+    "db3, pages zeroed": ("ros2_db3_tb3_gazebo_walker", lambda path: zeroed_pages(path, 0.45)),
 }
 
 
@@ -129,13 +173,15 @@ def test_every_command_on_a_damaged_copy_says_so_and_reads_the_rest(
     tfx: Tfx,  # noqa: F811
     tmp_path: Path,
 ) -> None:
-    """frames, wtf, monitor, view-frames, report, filter, echo and diff (against the intact recording) on the
-    damaged copy: each exits 0, 1 or 2 (a damaged file is never taken for a healthy one's verdict alone), with
-    no traceback, and says the damage: on stdout (wtf, report's page) or as a warning on stderr."""
+    """frames, wtf, monitor, view-frames, report, filter, echo, diff (against the intact recording) and static
+    --repair (a copy: written whole or not at all) on the damaged copy: each exits 0, 1 or 2 (a damaged file is
+    never taken for a healthy one's verdict alone), with no traceback, and says the damage: on stdout (wtf,
+    report's page, diff) or as a warning on stderr."""
     name, damage = DAMAGED[case]
     original = _original(name)
     bag = copied(name, tmp_path)
     damage(next(p for p in sorted(bag.iterdir()) if p.suffix in (".db3", ".mcap")) if bag.is_dir() else bag)
+    repaired = tmp_path / f"repaired{bag.suffix}"
     frames = _json(tfx, "frames", "-b", bag)
     moving = [(f["parent"], f["frame"]) for f in frames["frames"] if f["parent"] and not f["static"]]
     runs = {
@@ -146,7 +192,9 @@ def test_every_command_on_a_damaged_copy_says_so_and_reads_the_rest(
         "filter": tfx("filter", "-b", bag),
         "diff": tfx("diff", original, bag),
         "echo": tfx("echo", *moving[0], "-b", bag, "--at", "+1"),
+        "static": tfx("static", "--repair", "-b", bag, "-o", repaired),
     }
+    assert runs["static"].code in (0, 2) and (runs["static"].code == 0) == repaired.exists()  # no half copy
     said = ("damaged", "cut short", "truncated", "lost")
     for command, result in runs.items():
         assert result.code in (0, 1, 2), f"{command}: exit {result.code}"

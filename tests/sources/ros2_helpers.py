@@ -234,6 +234,7 @@ class McapOptions:
     extra: list[Other] = field(default_factory=list)
     messages_per_chunk: int = 0  # when set, a chunk ends after so many messages,
     chunk_compressions: tuple[CompressionType, ...] = ()  # and the next is compressed with the next of these
+    enable_crcs: bool = True  # the mcap library's default; rosbag2's mcap storage writes none
 
 
 def write_foxglove_mcap(
@@ -249,6 +250,7 @@ def write_foxglove_mcap(
             use_chunking=options.use_chunking,
             index_types=options.index_types,
             use_statistics=options.use_statistics,
+            enable_crcs=options.enable_crcs,
         )
         writer.start(profile="", library="tftools-tests")
         ids = {c.topic: _register(writer, c) for c in channels}

@@ -50,7 +50,9 @@ def command(
     found = diff_trees(first, second, query, read=lambda paths: open_recording(paths, topics, tf2))
     code = Exit.PROBLEMS if found.differences else Exit.OK
     if fmt is TextOrJson.json:
-        render.write_json(found.a, found.b, found.differences, found.tolerances, int(code), sys.stdout)
+        render.write_json(
+            found.a, found.b, found.differences, found.tolerances, int(code), sys.stdout, found.notes, found.damaged
+        )
     else:
-        render.write_text(found.a, found.b, found.differences, found.tolerances, sys.stdout)
+        render.write_text(found.a, found.b, found.differences, found.tolerances, sys.stdout, found.notes, found.damaged)
     exit_with(code)

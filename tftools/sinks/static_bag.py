@@ -132,9 +132,13 @@ def _static_rows(source: Path) -> tuple[StaticRows, list[Transform], dict[str, i
     each static frame (in first-seen order), and ``_Plan.until`` (``_repeated_until``)."""
     from tftools.sources.recording import read_recording
 
-    batch = read_recording([source]).transforms
+    recording = read_recording([source])
+    batch = recording.transforms
     rows = np.flatnonzero(batch.static)
     if not len(rows):
+        damage = [line for file in recording.contents.files for line in file.problems]
+        if damage:  # its statics may be in what was lost; and it could not be copied whole anyway
+            raise CopyError(str(source), f"cannot be copied whole: {damage[0]}", "damaged")
         raise CopyError(str(source), "holds no static transforms", "no_statics")
     rows = rows[np.argsort(batch.record_time[rows], kind="stable")]  # each message keeps its own order
     names = batch.frame_names

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import random
 import shutil
 from pathlib import Path
 from typing import Any
@@ -28,6 +29,23 @@ def copied(name: str, into: Path) -> Path:
     for path in [target, *target.rglob("*")]:
         path.chmod(0o755 if path.is_dir() else 0o644)
     return target
+
+
+def overwritten(path: Path, share: float, seed: int = 43, length: int = 16) -> None:
+    """``length`` bytes from ``share`` of the file overwritten with seeded noise."""
+    data = bytearray(path.read_bytes())
+    start = int(len(data) * share)
+    rng = random.Random(seed)
+    data[start : start + length] = bytes(rng.randrange(256) for _ in range(length))
+    path.write_bytes(bytes(data))
+
+
+def zeroed_pages(db3: Path, share: float, length: int = 1 << 16) -> None:
+    """``length`` bytes of whole pages zeroed from ``share`` of a .db3 (its pages are 4 KiB)."""
+    data = bytearray(db3.read_bytes())
+    at = int(len(data) * share) // 4096 * 4096
+    data[at : at + length] = bytes(length)
+    db3.write_bytes(bytes(data))
 
 
 def cut(path: Path, size: int) -> None:

@@ -306,6 +306,47 @@ def test_a_real_uncompressed_chunk_with_a_damaged_record_loses_that_record_only(
     ]
 
 
+def test_a_real_uncompressed_chunk_failing_its_crc_says_so_where_read_in_ranges(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The CougUV AUV's .mcap written again with a CRC on its one uncompressed chunk (as mcap's writers do by
+    default; rosbag2 writes none), one byte of a /tf message's last rotation value flipped: read in ranges, the
+    wrong value passed silently (a different /tf row, no word of damage); the chunk that states a CRC is now read
+    whole, fails it, and says a value may be wrong. The file as rosbag2 wrote it (no CRC) is still read in ranges."""
+    from tests.corpus.variants import rewrite_mcap
+
+    original = copied("ros2_mcap_coug_auv_replayed", tmp_path)
+    (part,) = original.glob("*.mcap")
+    crc = rewrite_mcap(part, tmp_path / "crc.mcap", compression=CompressionType.NONE)
+    whole, _ = rows(original)
+    assert rows(crc) == (whole, [])
+    (chunk,) = _chunks(crc)
+    data = crc.read_bytes()
+    assert struct.unpack_from("<I", data, chunk.offset + 9 + 24) != (0,)  # it states a CRC
+    tf = _channel_ids(crc, "/tf")
+    at = chunk.records_start
+    while not (data[at] == 0x05 and int.from_bytes(data[at + 9 : at + 11], "little") == tf):
+        at += 9 + int.from_bytes(data[at + 1 : at + 9], "little")
+    _flipped(crc, at + 9 + int.from_bytes(data[at + 1 : at + 9], "little") - 3)
+    got, problems = rows(crc)
+    assert len(got) == len(whole) and len(set(got) - set(whole)) == 1
+    assert problems == [
+        "1 of 1 chunks is damaged (chunk fails its CRC check): all 2671 of its messages still parse and are read, but "
+        "a value among them may be wrong"
+    ]
+    from tftools.sources.bag.mcap import index
+
+    read_whole: list[Any] = []
+    read_chunk = index._read_chunk
+
+    def noted(*args: Any) -> None:
+        read_whole.append(args)
+        read_chunk(*args)
+
+    monkeypatch.setattr(index, "_read_chunk", noted)
+    assert rows(original) == (whole, []) and not read_whole  # in ranges: no CRC to check
+
+
 def _chunks(path: Path) -> list[ChunkIndex]:
     with FileSource(path) as source:
         summary = summary_of(source)

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tftools.analysis.description import described_differences, description_shape
+from tftools.analysis.diff.damage import Damaged, damage_notes, damage_of
 from tftools.analysis.differences import Difference, compare
 from tftools.analysis.expected import Tolerances, TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
@@ -23,12 +24,22 @@ Read = Callable[[Sequence[str]], Recording]
 
 @dataclass(frozen=True)
 class TreeDiff:
-    """Trees ``a`` and ``b``, what differs between them beyond ``tolerances``."""
+    """Trees ``a`` and ``b``, what differs between them beyond ``tolerances``; for each difference, what says a
+    damaged recording may have made it (``damage_notes``: "" where none), and each side's damage (None: none)."""
 
     a: TreeShape
     b: TreeShape
     differences: list[Difference]
     tolerances: Tolerances
+    notes: tuple[str, ...] = ()
+    a_damaged: Damaged | None = None
+    b_damaged: Damaged | None = None
+
+    @property
+    def damaged(self) -> tuple[str, str]:
+        """The first problem of each side read only in part ("" for one read whole)."""
+        a, b = self.a_damaged, self.b_damaged
+        return (a.problem if a is not None else "", b.problem if b is not None else "")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -49,8 +60,8 @@ def diff_trees(first: str, second: str, query: DiffQuery | None = None, *, read:
     query = query or DiffQuery()
     read = read or read_recording
     robots = {location: read_urdf(location) for location in (first, second) if is_urdf(location)}
-    a, b = (
-        description_shape(robots[location]) if location in robots else _shape(location, read)
+    (a, a_damaged), (b, b_damaged) = (
+        (description_shape(robots[location]), None) if location in robots else _shape(location, read)
         for location in (first, second)
     )
     base = a.tolerances if is_tree_file(first) else b.tolerances  # a recording's are the defaults
@@ -59,7 +70,8 @@ def diff_trees(first: str, second: str, query: DiffQuery | None = None, *, read:
     for location, other in ((first, b), (second, a)):
         if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF
             differences = described_differences(differences, robots[location], other)
-    return TreeDiff(a, b, differences, tolerances)
+    notes = damage_notes(differences, a_damaged, b_damaged)
+    return TreeDiff(a, b, differences, tolerances, notes, a_damaged, b_damaged)
 
 
 def overridden(
@@ -83,17 +95,26 @@ def is_urdf(location: str) -> bool:
     return not is_url(location) and Path(location).suffix in (".urdf", ".xacro")
 
 
-def _shape(location: str, read: Read) -> TreeShape:
-    return read_tree(Path(location)) if is_tree_file(location) else recorded_shape(lambda: read([location]), location)
+def _shape(location: str, read: Read) -> tuple[TreeShape, Damaged | None]:
+    if is_tree_file(location):
+        return read_tree(Path(location)), None
+    return _recorded(lambda: read([location]), location)
 
 
 def recorded_shape(read: Callable[[], Recording], source: str) -> TreeShape:
     """The shape of the recording ``read`` gives; an empty one (``TreeShape.empty`` says why) where it holds no
     transforms (read whole, without damage, none on topics not read: a --topic that missed /tf is an error), so
     that ``tfx diff`` finds it differs from a tree by every frame of that tree, and not from itself."""
+    return _recorded(read, source)[0]
+
+
+def _recorded(read: Callable[[], Recording], source: str) -> tuple[TreeShape, Damaged | None]:
+    """``recorded_shape``, and what was damaged in the recording."""
     try:
-        return shape_of(read())
+        recording = read()
+        shape = shape_of(recording)
     except NoTransformsError as error:
         if error.cause != "absent" or error.carriers:  # damaged, of a type not read, or on other topics
             raise
-        return TreeShape({}, source, empty=f"no transforms on {', '.join(error.topics)}")
+        return TreeShape({}, source, empty=f"no transforms on {', '.join(error.topics)}"), None
+    return shape, damage_of(recording)

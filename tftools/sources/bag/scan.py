@@ -66,6 +66,7 @@ class FileScan:
     __slots__ = (
         "damaged",
         "end",
+        "lost_after",
         "message_count",
         "messages",
         "offered_qos",
@@ -89,13 +90,24 @@ class FileScan:
         self.skipped: list[Unread] = []  # asked-for topics of types or encodings not read
         self.windowed = True  # False: read whole, without an index to find a record-time window by
         self.damaged: list[tuple[int, int]] = []  # record-time spans of the damaged parts (``SourceInfo.damaged``)
+        self.lost_after: int | None = None  # the record time read last before messages were lost (``note_lost``)
 
     def note_times(self, first: int, last: int, count: int) -> None:
         """``count`` messages of any topic met, recorded from ``first`` to ``last`` (when no index
         or summary counts them)."""
+        if self.lost_after is not None:  # the first read after a loss: the stretch between is the damaged part
+            before, self.lost_after = self.lost_after, None
+            self.damaged.append((min(before, first), max(before, first)))
         self.start = min(self.start, first) if self.message_count else first
         self.end = max(self.end, last) if self.message_count else last
         self.message_count += count
+
+    def note_lost(self) -> None:
+        """Messages lost here, in a file read record after record (damage met, without an index to say what was
+        there): the stretch from the last record time read before to the first read after is a damaged part (none
+        is known before the first or after the last read)."""
+        if self.message_count and self.lost_after is None:
+            self.lost_after = self.end
 
     def note_problem(self, line: str) -> None:
         if line and line not in self.problems:

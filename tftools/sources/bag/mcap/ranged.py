@@ -7,7 +7,18 @@ from collections.abc import Callable
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
-from tftools.sources.bag.mcap.records import CHUNK, MESSAGE, MESSAGE_HEAD, RECORD, U16, U32, U64, Channels, ChunkIndex
+from tftools.sources.bag.mcap.records import (
+    CHUNK,
+    CHUNK_HEAD,
+    MESSAGE,
+    MESSAGE_HEAD,
+    RECORD,
+    U16,
+    U32,
+    U64,
+    Channels,
+    ChunkIndex,
+)
 from tftools.sources.bag.spans import Spans, bounded
 from tftools.sources.codecs.gather import bytes_at
 from tftools.sources.codecs.wire import HEADER_BYTES
@@ -20,6 +31,7 @@ _BATCH_BYTES = 64 << 20  # of chunks whose wanted ranges are gathered and read t
 _SPARSE = 0.5  # the largest share of a chunk's records wanted for it to be read in ranges (else whole)
 _HEAD = RECORD.size + U16.size  # a message record's opcode, length and channel id
 _HEADED_BYTES = PAYLOAD + HEADER_BYTES  # of a message read for its header: its record's head and the header
+_CRC_AT = CHUNK_HEAD.size - U32.size  # a chunk's CRC in its fields: after its start and end time and size
 
 
 class Queued:
@@ -39,7 +51,8 @@ class RangedReader:
 
     A chunk whose wanted messages fill most of it is read whole instead (its CRC checked), and so
     is one whose ranges do not hold what its indexes say: read whole, its damage is found and told.
-    A chunk read in ranges is checked against its index and head, not its CRC (that needs it all).
+    A chunk read in ranges is checked against its index and head; one whose head states a CRC is read
+    whole after all, as its CRC covers every byte of it (rosbag2 states none: its chunks stay in ranges).
     """
 
     def __init__(self, source: ByteSource, channels: Channels, read_whole: Callable[[Queued], None]) -> None:
@@ -75,13 +88,13 @@ class RangedReader:
         kept = ~whole[messages.chunk]
         messages, cut = messages.rows(kept), cut[kept]
         data, damaged = self._read(batch, messages, cut)
-        whole |= damaged
+        whole |= damaged  # with those that state a CRC
         self._hand_on(batch, whole, messages.rows(~whole[messages.chunk]), data)
 
     def _read(self, batch: list[Queued], messages: Spans, cut: BoolArray) -> tuple[UInt8Array, BoolArray]:
         """The bytes of the messages' ranges (those ``cut``, as far as their header reaches) and of
-        their chunks' heads, and which chunks are damaged; each message's ``start`` and ``end`` made
-        its payload's in those bytes."""
+        their chunks' heads, and which chunks are damaged or state a CRC (to be read whole); each
+        message's ``start`` and ``end`` made its payload's in those bytes."""
         damaged = np.zeros(len(batch), bool)
         if not len(messages):
             return np.zeros(0, np.uint8), damaged
@@ -92,7 +105,7 @@ class RangedReader:
         data, where, read = self.source.read_ranges(starts, ends)
         n = len(heads)
         for i, chunk, at, whole in zip(chunks.tolist(), heads, where[:n].tolist(), read[:n].tolist(), strict=True):
-            damaged[i] = not whole or not _is_head_of(data, at, chunk)
+            damaged[i] = not whole or not _is_head_of(data, at, chunk) or _states_crc(data, at)
         fits = payloads(data, where[n:], messages, read[n:], cut)
         damaged[messages.chunk[~fits]] = True
         return data, damaged
@@ -130,6 +143,11 @@ def _is_head_of(data: UInt8Array, at: int, chunk: ChunkIndex) -> bool:
     name = chunk.compression.encode()
     fields = U32.pack(len(name)) + name + U64.pack(chunk.records_length)
     return opcode == CHUNK and length == chunk.length - RECORD.size and head.endswith(fields)
+
+
+def _states_crc(data: UInt8Array, at: int) -> bool:
+    """Whether the chunk record at ``data[at:]`` states a CRC of its records (0: none)."""
+    return bool(data[at + RECORD.size + _CRC_AT : at + RECORD.size + _CRC_AT + U32.size].any())
 
 
 def payloads(

@@ -121,6 +121,7 @@ class _Stream:
             data, damage = chunk_records(content, self.channels.budget)
         except DamageError:
             self.lost_chunks += not partial
+            self.channels.result.note_lost()
             return
         walked, read = scan_records(data, self.number, self.channels, counted=True)
         damaged = damage or walked
@@ -128,6 +129,7 @@ class _Stream:
             self.chunks_read += 1
         if partial or not damaged:
             return
+        self.channels.result.note_lost()
         if read:
             self.salvaged.note(damaged, read, None)
         else:

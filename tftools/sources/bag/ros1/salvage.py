@@ -68,6 +68,7 @@ class _Scanner:
                     self.tail = f"the last {stop - pos} bytes are no readable record"
                     break
                 bag.damage.note(pos, f"{found - pos} unreadable bytes skipped ({e})", None)
+                bag.scan.note_lost()
                 pos = found
             self.scanned = min(pos, stop)
             bag.progress(self.scanned, bag.size)
@@ -101,6 +102,7 @@ class _Scanner:
             unpacked = bag.unpacked(chunk, end)
         except CompressionUnavailableError as e:
             bag.damage.note(chunk.pos, str(e), None)
+            bag.scan.note_lost()
             return end
         read = self._messages(unpacked.data)
         if chunk.data_end > stop and not len(unpacked.data) and chunk.compression == "bz2":
@@ -109,6 +111,7 @@ class _Scanner:
             )
         if unpacked.loss and chunk.data_end <= stop:
             bag.damage.note(chunk.pos, unpacked.loss, None, doubtful=read > 0)
+            bag.scan.note_lost()
         bag.release(chunk.pos, end)
         return end
 

@@ -15,7 +15,7 @@ from tftools.sources.bag.contents import ProgressCallback
 from tftools.sources.bag.formats import SQLITE3, ZSTD_MAGIC
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.bag.rosbag2.database import Database, Fetched, PageError
-from tftools.sources.bag.rosbag2.db3_salvage import Row, salvage, salvage_topics
+from tftools.sources.bag.rosbag2.db3_salvage import Salvaged, salvage, salvage_topics
 from tftools.sources.bag.scan import FileScan
 from tftools.sources.bag.spans import Spans
 from tftools.sources.bag.unpack import zstd_messages
@@ -243,10 +243,12 @@ def _add_salvaged(
     size: int,
 ) -> None:
     """The messages of the file's whole pages into ``result`` (of ``headers`` topics, their headers' bytes),
-    ``damage`` said as why they were read so."""
-    topic_ids, times, salvaged = zip(*_salvage(path, channels, headers, result, damage), strict=True)
-    _unpack_if_compressed(salvaged[0], result, size)
-    result.messages.add(lookup[np.array(topic_ids, np.int64)], times, np.arange(len(times)), salvaged)
+    ``damage`` said as why they were read so; the stretches whose messages were lost with their pages noted."""
+    found = _salvage(path, channels, headers, result, damage)
+    spans, data = found.spans, memoryview(found.data)
+    _unpack_if_compressed(bytes(data[spans.start[0] : spans.start[0] + len(ZSTD_MAGIC)]), result, size)
+    result.messages.add_spans(lookup[spans.channel], spans, data)
+    result.damaged += found.missing
 
 
 #: The bytes of an SQLite file's header that say its page size and count.
@@ -292,21 +294,21 @@ def _add(
             return
 
 
-def _salvage(path: Path, channels: dict[int, int], headers: set[int], result: FileScan, damage: str) -> list[Row]:
+def _salvage(path: Path, channels: dict[int, int], headers: set[int], result: FileScan, damage: str) -> Salvaged:
     with closing(FileSource(path)) as source:
         found = salvage(source.mapped(), channels, headers, HEADER_BYTES, source.release)
-    rows = found.rows
+    read = len(found.spans)
     result.windowed = False
-    if not rows:
+    if not read:
         raise CorruptBagError(str(path), f"no message could be read ({damage})")
     if not result.message_count:  # the statistics could not be read either
         result.message_count, result.start, result.end = found.count, found.start, found.end
     lost = f", {found.lost} more lost their data" if found.lost else ""
     result.note_problem(
-        f"the database is damaged ({damage}): read the {len(rows)} transform messages of its intact pages"
+        f"the database is damaged ({damage}): read the {read} transform messages of its intact pages"
         f"{lost}; those in missing or damaged pages are lost"
     )
-    return rows
+    return found
 
 
 def _text(value: object) -> str:

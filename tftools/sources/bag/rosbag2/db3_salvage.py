@@ -17,10 +17,15 @@ from __future__ import annotations
 
 import mmap
 import struct
+from array import array
 from collections.abc import Callable, Collection, Iterator
 
+import numpy as np
+
+from tftools.core.arrays import Int64Array
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import ZSTD_MAGIC
+from tftools.sources.bag.spans import Spans
 
 Bytes = bytes | mmap.mmap
 Row = tuple[int, int, bytes]  # topic id, record time, payload
@@ -35,19 +40,40 @@ _RELEASE_BYTES = 4 << 20  # of pages scanned between releases of the map's pages
 
 
 class Salvaged:
-    """The wanted topics' messages found, in (record time, id) order; the count and time span of
-    every topic's; how many wanted ones lost their overflow pages."""
+    """The wanted topics' messages found, as rows of ``spans`` (the topic id as channel, the rowid as offset, the
+    payload at ``data[start:end]``) in (record time, id) order; the count and time span of every topic's; how many
+    wanted ones lost their overflow pages; the record-time stretches whose messages are missing (``lost_stretches``)."""
 
-    __slots__ = ("count", "end", "lost", "rows", "start")
+    __slots__ = ("count", "data", "end", "lost", "missing", "spans", "start")
 
     def __init__(
-        self, rows: list[Row] | None = None, count: int = 0, start: int = 0, end: int = 0, lost: int = 0
+        self,
+        spans: Spans | None = None,
+        data: bytes | bytearray = b"",
+        count: int = 0,
+        start: int = 0,
+        end: int = 0,
+        lost: int = 0,
+        missing: list[tuple[int, int]] | None = None,
     ) -> None:
-        self.rows = [] if rows is None else rows
+        self.spans = Spans.empty() if spans is None else spans
+        self.data = data
         self.count = count
         self.start = start
         self.end = end
         self.lost = lost
+        self.missing = [] if missing is None else missing
+
+    @property
+    def rows(self) -> list[Row]:
+        """(topic id, record time, payload) of each message found, in order."""
+        s = self.spans
+        return [
+            (topic, time, bytes(self.data[start:end]))
+            for topic, time, start, end in zip(
+                s.channel.tolist(), s.time.tolist(), s.start.tolist(), s.end.tolist(), strict=True
+            )
+        ]
 
 
 def salvage(
@@ -61,12 +87,15 @@ def salvage(
     payloads of those of ``topic_ids`` (of ``headed`` ones, read for their header, the first ``header_bytes``
     but where compressed, as sqlite hands them over). Reads no byte outside ``data``, follows no overflow
     chain round a loop, and in all no more overflow pages than the file holds (however many records
-    claim the same ones). ``release`` (a map's ``FileSource.release``) is told of the bytes scanned as it goes."""
+    claim the same ones). ``release`` (a map's ``FileSource.release``) is told of the bytes scanned as it goes.
+    Rows are held in flat arrays and one buffer of payloads (a Python object per message would double the read's
+    memory)."""
     pages = _Pages.of(data)
     if pages is None:
         return Salvaged()
-    times: dict[int, int] = {}  # rowid -> record time, of every message: freed pages may repeat a row
-    wanted: dict[int, Row] = {}
+    every = (array("q"), array("q"))  # rowid, record time of every message: freed pages may repeat a row
+    found = (array("q"), array("q"), array("q"), array("q"))  # rowid, topic id, time, payload start of wanted ones
+    payloads = bytearray()
     lost = 0
     for number in pages.numbers(release):
         for cell in pages.leaf_cells(number):
@@ -75,16 +104,44 @@ def salvage(
             except DamageError as e:  # a malformed cell is skipped; one whose data is lost, counted
                 lost += e.what == _LOST_OVERFLOW
                 continue
-            if message is not None:
-                rowid, topic_id, time, payload = message
-                times[rowid] = time
-                if payload is not None and topic_id in headed and payload[:4] != ZSTD_MAGIC:
-                    payload = payload[:header_bytes]  # not a camera's image held whole (memory)
-                if payload is not None:
-                    wanted[rowid] = (topic_id, time, payload)
-    rows = [wanted[rowid] for rowid in sorted(wanted, key=lambda rowid: (wanted[rowid][1], rowid))]
-    first, last = (min(times.values()), max(times.values())) if times else (0, 0)
-    return Salvaged(rows, len(times), first, last, lost)
+            if message is None:
+                continue
+            rowid, topic_id, time, payload = message
+            every[0].append(rowid)
+            every[1].append(time)
+            if payload is None:
+                continue
+            if topic_id in headed and payload[:4] != ZSTD_MAGIC:
+                payload = payload[:header_bytes]  # not a camera's image held whole (memory)
+            for column, value in zip(found, (rowid, topic_id, time, len(payloads)), strict=True):
+                column.append(value)
+            payloads += payload
+    if not every[0]:
+        return Salvaged(lost=lost)
+    ids, times = _last_of_each(np.frombuffer(every[0], np.int64), np.frombuffer(every[1], np.int64))
+    rowids, topics, recorded, starts = (np.frombuffer(column, np.int64) for column in found)
+    ends = np.append(starts[1:], len(payloads)).astype(np.int64)
+    kept = np.zeros(0, np.int64)
+    if len(rowids):
+        _, last = _last_of_each(rowids, np.arange(len(rowids), dtype=np.int64))
+        kept = last[np.lexsort((rowids[last], recorded[last]))]
+    spans = Spans(np.zeros(len(kept), np.int64), rowids[kept], topics[kept], recorded[kept], starts[kept], ends[kept])
+    return Salvaged(spans, payloads, len(ids), int(times.min()), int(times.max()), lost, _missing(ids, times))
+
+
+def _last_of_each(ids: Int64Array, values: Int64Array) -> tuple[Int64Array, Int64Array]:
+    """The distinct ``ids`` in order, each with the value of its last row (a row a freed page repeats)."""
+    unique, first_from_end = np.unique(ids[::-1], return_index=True)
+    return unique, values[::-1][first_from_end]
+
+
+def _missing(ids: Int64Array, times: Int64Array) -> list[tuple[int, int]]:
+    """The record-time stretches of the messages missing between those read: rosbag2 numbers its messages from 1
+    as they come, so a run of missing ids is messages lost with their pages, from the time of the one read before
+    them to that of the one after (not before the first read or after the last: nothing marks those)."""
+    gaps = np.flatnonzero(np.diff(ids) > 1)
+    before, after = times[gaps], times[gaps + 1]
+    return list(zip(np.minimum(before, after).tolist(), np.maximum(before, after).tolist(), strict=True))
 
 
 def salvage_topics(data: Bytes, release: Release | None = None) -> list[tuple[int, str, str, str, str, str]]:
