@@ -8,6 +8,9 @@ from tests.corpus.recordings import BY_ID, Corpus
 from tests.corpus.test_corpus35 import _findings  # one reading of wtf's JSON findings
 
 TB4 = "ros2-turtlebot4-ignition-gazebo-wheels-from-two-publishers-five-static-senders-sim-clock-2025-db3"
+PAUSED = (
+    "ros2-turtlebot4-ignition-gazebo-simulation-paused-at-end-tf-fresh-on-sim-time-wheels-from-two-publishers-2025-db3"
+)
 
 
 def test_the_turtlebot4_simulator_s_wheels_from_two_publishers_are_said_once_each(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
@@ -42,3 +45,14 @@ def test_the_turtlebot4_simulator_s_first_scans_are_said_to_wait_for_the_lidar_s
         "and waited for it; to keep 99.9%: wait 0.543 s, queue 7"
     ) in text, text
     assert result.code == 0
+
+
+def test_tf_that_stopped_with_the_simulation_is_not_stale(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The same simulator three minutes earlier: tf's last samples arrive 2.2 s of wall time before the recording
+    ends, while /clock advances 12 ms (the simulation all but paused): tfx said 3 stale errors ('stopped at 22.569
+    (+9.4 s), 2.2 s before the recording ends'). On /clock's time tf is fresh to the end: no stale."""
+    code, findings = _findings(tfx, corpus(BY_ID[PAUSED]))
+    assert not [f for f in findings if f["code"] == "stale"], findings
+    (authorities,) = [f for f in findings if f["code"] == "multiple_authorities"]
+    assert authorities["frames"] == ["wheel_drop_right", "right_wheel"] and authorities["severity"] == "error"
+    assert code == 1
