@@ -329,3 +329,19 @@ def test_waits_before_and_after_an_edge_first_arrived_are_said_apart() -> None:
     assert (report.late_by, report.late_after) == (MS, 199 * MS)  # the waits for its next sample only
     text = " ".join(_text(filter_streams(_buffer(edge), [stream], FilterQuery(target="odom"))).split())
     assert "3 arrived before its first transform and waited for it; then its newest stamp 0.001 s behind" in text
+
+
+def test_the_longest_wait_is_said_with_its_edge_where_most_waited_for_another() -> None:
+    """The TurtleBot 4 simulator (ros2_db3_turtlebot4_gz_wheels_two_publishers_2025): 131 scans waited a few ms for
+    odom -> base_link, the first 7 up to 0.543 s for the lidar's static, sent 0.68 s in. filter said only 'waited for
+    odom -> base_link ...' beside 'wait 0.543 s': the timeout it advised is the static's, so say whose it is."""
+    scans = [(s + 2 * MS, "laser", s) for s in _grid(10, 0.0, 5.0)]  # 2 ms after odometry's sample at its stamp
+    late = _static("base_link", "laser", record=T0 + 650 * MS)  # the laser's mount, recorded at +0.65 s
+    report = filter_streams(_buffer(_base()[:-1], late), [_stream(scans)], FilterQuery(target="odom"))
+    (scan,) = report.streams
+    assert scan.late_edge == ("odom", "base_link") and scan.longest_edge == ("base_link", "laser")
+    assert (scan.longest_waited, scan.longest_unheld) == (7, 7) and scan.wait["max"] == 650 * MS - 2 * MS
+    text = " ".join(_text(report).split())
+    assert "; the longest for base_link -> laser: 7 arrived before its first transform and waited for it;" in text
+    lone = filter_streams(_buffer(_base()), [_stream(scans)], FilterQuery(target="odom"))
+    assert lone.streams[0].longest_edge is None and "the longest" not in " ".join(_text(lone).split())

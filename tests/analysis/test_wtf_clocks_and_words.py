@@ -834,3 +834,24 @@ def test_the_descriptions_joints_on_the_wall_clock_are_robot_state_publisher_not
         assert ("robot_state_publisher (and the joint states it follows) runs without use_sim_time" in clock.hint) is (
             bool(robot)
         )
+
+
+@pytest.mark.parametrize("paused", [True, False], ids=["simulation-paused", "simulation-ran-on"])
+def test_tf_that_stopped_with_the_simulation_is_not_stale_on_its_time(paused: bool) -> None:
+    """The TurtleBot 4 simulator (ros2_db3_turtlebot4_gz_sim_paused_at_end_2025): tf stops 2.2 s of wall time before
+    the recording ends, but /clock all but stops with it (12 ms of sim time): on the simulation's time, which a
+    listener with use_sim_time runs on, tf is fresh to the end. tfx said stale (3 errors, '2.2 s before the
+    recording ends', the record clock's). A simulation that ran on without tf is stale, by its own seconds."""
+    stop = START + 7 * NS_PER_S  # tf's last arrival; the recording (and /clock) go on for 3 s of wall time
+    end = TfMessage("/scan", START + round(SECONDS * NS_PER_S), [], "/lidar")  # the recording goes on (not tf)
+    messages = [*(m for m in simulated() if m.record_time <= stop), end]
+    clock = sim_clock()
+    if paused:
+        clock = ClockSamples(clock.topic, clock.record_time, np.minimum(clock.clock, sim(stop)))
+    findings = check(recording(messages, ros1=False, clock=clock)).findings
+    stale = [f for f in findings if f.code == "stale"]
+    if paused:
+        assert not stale, stale
+    else:
+        (odom,) = [f for f in stale if f.frames == ("odom", "base_link")]
+        assert odom.message.endswith("stopped at 106.980 (+7.0 s), 3.0 s before the recording ends"), odom.message

@@ -102,6 +102,12 @@ def _paragraph(s: StreamReport) -> list[Text]:
             child,
             *(Text(w) for w in s.wait_made_of().split(" ")),
         ]
+        if s.longest_edge is not None:
+            parent, child = (Text(printable(name)) for name in s.longest_edge)
+            child.append(":")
+            words[-1].append(";")
+            words += [Text("the"), Text("longest"), Text("for"), parent, Text("->"), child]
+            words += [Text(w) for w in s.longest_made_of().split(" ")]
     words[-1].append(";")
     words += [Text(word) for word in f"to keep {KEEP:.1%}: {_advice(s)}".split(" ")]
     return words
@@ -115,7 +121,10 @@ def fates_in_words(reasons: dict[str, int]) -> str:
 def _late(s: StreamReport) -> str:
     if s.late_edge is None:
         return ""
-    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({s.wait_made_of()})"
+    longest = ""
+    if s.longest_edge is not None:
+        longest = f"; the longest for {s.longest_edge[0]} -> {s.longest_edge[1]}: {s.longest_made_of()}"
+    return f"{s.late_edge[0]} -> {s.late_edge[1]} ({s.wait_made_of()}{longest})"
 
 
 #: What keeps the messages no timeout keeps, by why most of them were lost (``Fate.reason``).
@@ -205,6 +214,9 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
         "late_rate_hz": s.late_rate_hz,
         "late_rate_all_hz": s.late_rate_all_hz or None,
         "late_unheld": s.late_unheld,
+        "longest_edge": shown["longest_edge"],
+        "longest_waited": s.longest_waited,
+        "longest_unheld": s.longest_unheld,
         "clock_apart_s": seconds(s.clock_apart),
         "wait_needed_s": None if s.wait_needed is None else seconds(s.wait_needed),
         "queue_needed": s.queue_needed,

@@ -581,6 +581,11 @@ class StreamReport:
     # other, not in its place; 0 where they are on one clock
     late_rate_all_hz: float = 0.0
     late_unheld: int = 0  # of the waits for that edge, those for its first transform (it had sent nothing yet)
+    # The edge the longest wait was for, where it is not ``late_edge`` (a static sent after the sensor's first
+    # messages): it sets ``wait_needed``; how many waited for it, and how many of those for its first transform.
+    longest_edge: tuple[str, str] | None = None
+    longest_waited: int = 0
+    longest_unheld: int = 0
     tick: int = 0  # the step of the clock the waits were read off (record times on /clock's ticks; 0: fine)
     # How far (ns) the messages lost to tf are stamped ahead of the edge they were lost for, both against their
     # arrival, where more than ``SAME_CLOCK`` (negative: behind): the sensor on another machine's clock, which no
@@ -595,6 +600,15 @@ class StreamReport:
     # Odometry whose own frame no transform names while another odometry places the robot on tf (``fused_edge``):
     # that estimate's input, its frame needed by nothing.
     fused: bool = False
+
+    def longest_made_of(self) -> str:
+        """Who waited for the edge of the longest wait (``longest_edge``), in words: "7 arrived before its first
+        transform and waited for it"; "" where that edge is ``late_edge``."""
+        if self.longest_edge is None:
+            return ""
+        if self.longest_unheld >= self.longest_waited:
+            return f"{self.longest_waited} arrived before its first transform and waited for it"
+        return f"{self.longest_waited} waited for it"
 
     def wait_made_of(self) -> str:
         """What the wait for ``late_edge`` was made of, in words: how far its newest stamp was behind the
@@ -663,6 +677,8 @@ def stream_report(
     later = np.flatnonzero(fates.fate == Fate.LATER).tolist()
     late_edge = _most([fates.edge[i] for i in later])
     waited = [i for i in later if fates.edge[i] == late_edge]
+    longest = _longest_edge(fates, waits, later, late_edge)
+    longest_waited = [i for i in later if longest is not None and fates.edge[i] == longest]
     lags = fates.lag[waited]
     held = lags != UNHELD
     afters = (fates.after[waited] if len(fates.after) else np.zeros(len(waited), np.int64))[held]
@@ -688,6 +704,9 @@ def stream_report(
         late_rate_hz=(late_rate := _rate(buffer, late_edge, stream.stamp[waited])),
         late_rate_all_hz=_rate_all(buffer, late_edge, late_rate),
         late_unheld=int((~held).sum()),
+        longest_edge=longest,
+        longest_waited=len(longest_waited),
+        longest_unheld=int((fates.lag[longest_waited] == UNHELD).sum()),
         tick=tick,
         wait_needed=_wait_needed(fates, stream),
         queue_needed=smallest_queue(fates, stream),
@@ -768,6 +787,16 @@ def _clock_apart(buffer: Buffer, edge: tuple[str, str] | None, stream: StampedMe
     apart = median_ns(stamps - arrived) - median_ns(samples - records)
     # further than the edge's samples took to arrive: no sample of the recording's tf is near their stamps
     return apart if abs(apart) > max(SAME_CLOCK, record_span(records)) else 0
+
+
+def _longest_edge(
+    fates: Fates, waits: Int64Array, later: list[int], late_edge: tuple[str, str] | None
+) -> tuple[str, str] | None:
+    """The edge the longest of ``waits`` (one per message of ``later``) was for, where it is not ``late_edge``."""
+    if not later:
+        return None
+    edge = fates.edge[later[int(np.argmax(waits))]]
+    return edge if edge != late_edge else None
 
 
 def _most(edges: list[tuple[str, str] | None]) -> tuple[str, str] | None:

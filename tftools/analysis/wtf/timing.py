@@ -52,7 +52,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
         # re-sent after its last new transform (ROS 2's tf2 stores an identical one once): it did not stop
         # arriving; its stamp stood still, as far behind as its clock went on (a stalled localizer's)
         resent = s.count > 1 and last_sent.get(s.key, 0) > _last_arrival(s)
-        silent = (_age(scene, s.last_stamp) or 0) if resent else scene.end - _last_arrival(s)
+        silent = (_age(scene, s.last_stamp) or 0) if resent else _silence(scene, _last_arrival(s))
         if silent <= silence_limit(s.rate_hz, from_sec(scene.thresholds.stale_after)):
             continue
         by = scene.by(s.authorities)
@@ -134,6 +134,14 @@ def _age(scene: Scene, stamp: int) -> int | None:
     """How far ``stamp`` is behind ROS time at the recording's end, on its clock (None: another time base)."""
     since = seconds_since(stamp, scene.timeline.end)
     return None if since is None else from_sec(since)
+
+
+def _silence(scene: Scene, last_arrival: int) -> int:
+    """How long before the recording's end an edge's last transform arrived, in ROS time where the timeline
+    reads it at both (under /clock: a simulation slowed or paused at the end kept tf fresh on its own time, as a
+    listener on it sees), else on the record clock."""
+    ros, known = scene.timeline.ros_time(np.array([last_arrival, scene.end], np.int64))
+    return int(ros[1] - ros[0]) if known.all() else scene.end - last_arrival
 
 
 def _sent(scene: Scene) -> dict[tuple[str, str], int]:
