@@ -39,6 +39,7 @@ def test_a_ros2_recording_imports_only_cdr_codecs(kind: str) -> None:
     assert f"{PACKAGE}.cdr" in modules
     assert loaded(modules, (*NOT_ROS, f"{PACKAGE}.ros1")) == []
     assert loaded(modules, ("ruamel",)) == []  # its metadata.yaml, in the block YAML rosbag2 writes
+    assert loaded(modules, ("tempfile",)) == []  # its files are not compressed whole
 
 
 def test_the_robot_decoders_are_selected_for_topics_read_whole() -> None:
