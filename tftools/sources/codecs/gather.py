@@ -1,4 +1,4 @@
-"""Bytes and numbers gathered from a byte array at many positions at once; distinct values found
+"""Bytes and numbers gathered from a byte array at many positions at once; distinct values and members found
 without ``np.unique``, whose first call imports numpy.ma (a tenth of reading a small bag)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from tftools.core.arrays import Int64Array, UInt8Array
+from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 
 
 def bytes_at(raw: UInt8Array, at: Int64Array, width: int) -> UInt8Array:
@@ -32,6 +32,17 @@ def distinct(values: Int64Array) -> Int64Array:
         return values
     ordered = np.sort(values)
     return ordered[np.concatenate(([True], ordered[1:] != ordered[:-1]))]
+
+
+def among(values: Int64Array, members: Int64Array) -> BoolArray:
+    """``np.isin(values, members)`` of integers, by a search among them sorted: ``np.isin`` of many calls
+    ``np.unique``, whose first call imports numpy.ma (~9 ms of CPU, in every fresh process that reads a bag)."""
+    if not len(members):
+        return np.zeros(len(values), bool)
+    ordered = members if bool(np.all(members[1:] >= members[:-1])) else np.sort(members)
+    at = np.minimum(np.searchsorted(ordered, values), len(ordered) - 1)
+    found: BoolArray = ordered[at] == values
+    return found
 
 
 def first_and_inverse(values: npt.NDArray[Any]) -> tuple[Int64Array, Int64Array]:

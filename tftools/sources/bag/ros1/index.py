@@ -35,7 +35,7 @@ from tftools.sources.bag.ros1.records import (
 from tftools.sources.bag.ros1.view import MAX_MESSAGES, view_order
 from tftools.sources.bag.spans import Spans, bounded
 from tftools.sources.bag.unpack import CompressionUnavailableError
-from tftools.sources.codecs.gather import distinct
+from tftools.sources.codecs.gather import among, distinct
 from tftools.sources.codecs.wire import HEADER_BYTES
 
 #: Records of uncompressed chunks are gathered until there are this many, or their chunks hold
@@ -313,7 +313,7 @@ class _Gathered:
         in_batch, messages.chunk = messages.chunk, np.array([c.ordinal for c in chunks], np.int64)[messages.chunk]
         got = np.bincount(in_batch[bag.add(data.data, messages)], minlength=len(chunks))
         keys = records.chunk * (1 << 40) + records.offset  # each record's chunk in the batch and place in it
-        found = np.isin(keys, in_batch * (1 << 40) + messages.offset)
+        found = among(keys, in_batch * (1 << 40) + messages.offset)
         for i, (pending, count) in enumerate(zip(chunks, got.tolist(), strict=True)):
             if count < pending.wanted:
                 lost = pending.wanted - count
