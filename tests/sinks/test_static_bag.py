@@ -27,6 +27,7 @@ from tests.sources.ros2_helpers import Tf, ros1_typestore, tf_cdr, tf_ros1, type
 from tftools.analysis.findings import Finding
 from tftools.analysis.wtf.fleet import check
 from tftools.core.transform import Transform
+from tftools.sinks.errors import CopyError
 from tftools.sinks.static_bag import (
     REPAIR_EVERY_S,
     add_static_transforms,
@@ -530,6 +531,33 @@ def _topic_counts(bag: Path) -> dict[str, int]:
         for c in reader.connections:
             counted[c.topic] = counted.get(c.topic, 0) + c.msgcount
         return counted
+
+
+def test_a_damaged_db3_whose_start_is_unknown_is_refused_after_one_read(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The TurtleBot 3 walker's .db3 (a real Gazebo run) with 64 KiB of its pages zeroed: sqlite cannot say where it
+    starts, so its repair began at record time 0 and, its first message at 1.67e18 ns, sent its statics every 10 s
+    from 1970 on, without end (the every-command sweep hung on it). Now the copy starts at its first message, and
+    the damaged file is refused in one line, with no copy left; the statics repeated at most once per 10 s of it."""
+    from tests.sources.bag.damaged import copied, zeroed_pages
+    from tftools.sinks import static_bag
+
+    bag = copied("ros2_db3_tb3_gazebo_walker", tmp_path)
+    zeroed_pages(next(bag.glob("*.db3")), 0.45)
+    sent: list[int] = []
+    repeat = static_bag._Copy._statics
+
+    def counted(copy: static_bag._Copy, stamp: int, ahead: bool = False) -> None:
+        sent.append(stamp)
+        assert len(sent) < 100, "the statics repeated far more often than every 10 s of a 26 s run"
+        repeat(copy, stamp, ahead)
+
+    monkeypatch.setattr(static_bag._Copy, "_statics", counted)
+    with pytest.raises(CopyError, match="cannot be copied whole: the database is damaged"):
+        repair_static_transforms(bag, tmp_path / "out")
+    assert sent and min(sent) > 1.6e18  # from the recording's own time on
+    assert sorted(p.name for p in tmp_path.iterdir()) == [bag.name]  # no copy, no scratch folder
 
 
 @pytest.mark.slow

@@ -254,12 +254,15 @@ def _copy(source: Path, fmt: Format, target: Path, plan: _Plan) -> tuple[Path, t
         # The descriptions only: every connection (those without messages too), and where the bag starts.
         head = reader.read(RecordWindow(0, 0)).files[0]
         try:
-            copy.start(head.start if head.message_count else 0)
+            if head.message_count:
+                copy.start(head.start)
         except Exception as error:
             raise _CopyError(error) from None
         read = reader.read().files[0]
         if read.problems:
             raise CopyError(str(source), f"cannot be copied whole: {read.problems[0]}", "damaged")
+        if copy.mark is None:  # no message at all: the plan's are all the copy holds
+            copy.start(0)
     copy.finish()
     return (target / f"{target.name}.mcap" if fmt is MCAP else target), tuple(sorted(copy.undescribed))
 
@@ -274,7 +277,8 @@ class _Copy:
         self.held = HeldStatics(plan.statics) if plan.statics is not None else None
         self.writer: Any = None
         self.connections: dict[tuple[str, ...], Any] = {}
-        self.mark = 0
+        #: The record time of the plan's last messages; None before the copy's start is known.
+        self.mark: int | None = None
         self.undescribed: set[str] = set()
 
     def open(self, stack: ExitStack) -> None:
@@ -283,12 +287,13 @@ class _Copy:
     def finish(self) -> None:
         """After the writer closed the copy."""
 
-    def start(self, mark: int) -> None:
+    def start(self, mark: int) -> int:
+        """The plan's messages ahead of the copy's start, ``mark`` (record time, ns); returns ``mark``."""
         self.mark = mark
         if self.plan.statics is not None and all(t == mark for t in self.plan.statics.message_times()):
-            # the recording begins with them: a repeat ahead of its messages gives tf2 nothing it lacks
-            return
+            return mark  # the recording begins with them: a repeat ahead of its messages gives tf2 nothing it lacks
         self._statics(mark, ahead=True)
+        return mark
 
     def channel(self, recorded: Recorded) -> None:
         try:
@@ -298,9 +303,12 @@ class _Copy:
 
     def message(self, recorded: Recorded, time: int, payload: memoryview) -> None:
         try:
-            while self.plan.every and time >= self.mark + self.plan.every:
-                self.mark += self.plan.every
-                self._statics(self.mark)
+            # Where its description did not say where it starts (a damaged .db3), its first message does.
+            mark = self.start(time) if self.mark is None else self.mark
+            while self.plan.every and time >= mark + self.plan.every:
+                mark += self.plan.every
+                self._statics(mark)
+            self.mark = mark
             self.writer.write(self._connection(recorded), time, payload)
         except Exception as error:  # the writer's, or a disk full: not the reader's to judge
             raise _CopyError(error) from None

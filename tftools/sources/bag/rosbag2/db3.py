@@ -305,7 +305,7 @@ def _salvage(path: Path, channels: dict[int, int], headers: set[int], result: Fi
         result.message_count, result.start, result.end = found.count, found.start, found.end
     lost = f", {found.lost} more lost their data" if found.lost else ""
     result.note_problem(
-        f"the database is damaged ({damage}): read the {read} transform messages of its intact pages"
+        f"the database is damaged ({damage}): read the {read} messages its intact pages hold of the topics read"
         f"{lost}; those in missing or damaged pages are lost"
     )
     return found
