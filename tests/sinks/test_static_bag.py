@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from rosbags.highlevel import AnyReader
+from rosbags.highlevel import AnyReader, AnyReaderError
 from rosbags.rosbag1 import Reader as Ros1Reader
 from rosbags.rosbag1 import Writer as Ros1Writer
 from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
@@ -526,8 +526,15 @@ def _topic_counts(bag: Path) -> dict[str, int]:
         for channel, count in summary.statistics.channel_message_counts.items():
             found[channels[channel].topic] = found.get(channels[channel].topic, 0) + count
         return found
+    counted: dict[str, int] = {}
+    if bag.is_dir() and not (bag / "metadata.yaml").exists():  # rosbags' reader needs it: sqlite counts them
+        query = "SELECT t.name, COUNT(m.id) FROM topics t LEFT JOIN messages m ON m.topic_id = t.id GROUP BY t.id"
+        for db3 in sorted(bag.glob("*.db3")):
+            with closing(sqlite3.connect(f"file:{db3}?mode=ro&immutable=1", uri=True)) as db:
+                for topic, count in db.execute(query):
+                    counted[topic] = counted.get(topic, 0) + count
+        return counted
     with Ros1Reader(bag) if bag.suffix == ".bag" else Rosbag2Reader(bag) as reader:
-        counted: dict[str, int] = {}
         for c in reader.connections:
             counted[c.topic] = counted.get(c.topic, 0) + c.msgcount
         return counted
@@ -579,8 +586,9 @@ def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path
         assert "encoding: a ROS 2 copy holds CDR messages" in str(e) or "cannot be copied whole" in str(e), e
         return
     assert _digest(bag) == before
-    with AnyReader([written], default_typestore=typestore()) as copy:  # rosbags opens it (the CougUV AUV's: not)
-        assert copy.connections
+    # rosbags opens the copy where it opened the recording (the CougUV AUV's copy: not); a recorded md5 mismatch (the
+    # MicroStrain IMU's) is kept as recorded, refused in both; a .db3 without metadata.yaml: its copy has one
+    assert _rosbags_opens(written) or not _rosbags_opens(bag)
     was, now = _topic_counts(bag), _topic_counts(written)
     assert {t: n for t, n in now.items() if not t.endswith("tf_static")} == {
         t: n for t, n in was.items() if not t.endswith("tf_static")
@@ -590,6 +598,14 @@ def test_repair_on_every_corpus_recording_with_statics(tmp_path: Path, bag: Path
     assert not {code for code, _ in found} & {"statics_early", "static_volatile"}
     assert found <= {(f.code, f.severity) for f in had}  # the JetAcker's copy: a `clock` error beside its info
     assert _figures(has) == _figures(had)
+
+
+def _rosbags_opens(bag: Path) -> bool:
+    try:
+        with AnyReader([bag], default_typestore=typestore()) as opened:
+            return bool(opened.connections)
+    except (AnyReaderError, FileNotFoundError):
+        return False
 
 
 def _figures(findings: Sequence[Finding]) -> set[tuple[str, tuple[str, ...], int]]:
