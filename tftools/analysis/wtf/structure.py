@@ -175,9 +175,10 @@ def _robots_alike(scene: Scene, roots: list[str], members: dict[str, list[str]])
     if not scene.publishers_known:
         return None
     rows = scene.rows
-    for root in roots[1:]:
+    by_child = dict(rows.by_child(rows.usable))
+    for root in roots[1:TREES_DESCRIBED]:
         frames = set(members[root]) - {root}
-        mine = [theirs for child, theirs in rows.by_child(rows.usable) if child in frames]
+        mine = [by_child[child] for child in frames if child in by_child]
         robots = robots_of(scene.authorities_of(np.concatenate(mine))) if mine else None
         if robots is not None:
             child = next(c for c in members[root] if c in frames)
