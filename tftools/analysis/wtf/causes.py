@@ -7,6 +7,8 @@ from collections.abc import Callable, Hashable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.robots import robots_of
+from tftools.analysis.wtf.timing import CLOCK_BEHIND_S
 
 
 def _on_its_frames(cause: Finding, finding: Finding) -> bool:
@@ -59,6 +61,17 @@ def _one_clock_ahead(first: Finding, finding: Finding) -> bool:
     further = finding if b > a else first
     post_dated = further.figures.get("constant") == 1.0 and abs(abs(a - b) - RSP_POST_DATED_S) <= SAME_CLOCK_S
     return overlap and (abs(a - b) <= SAME_CLOCK_S or post_dated)
+
+
+def _one_clock_behind(first: Finding, finding: Finding) -> bool:
+    """Edges that never arrived sooner than the same time after their stamps, over the same time: one clock behind
+    the recorder's (two real drones' and their MAVROS' edges, none sooner than 2.3 s: the recorder's clock ahead of
+    theirs), not one slow publisher per edge."""
+    a, b = first.figures.get("late_s_min"), finding.figures.get("late_s_min")
+    if not isinstance(a, float) or not isinstance(b, float) or min(a, b) <= CLOCK_BEHIND_S:
+        return False
+    overlap = finding.first_time <= first.last_time and first.first_time <= finding.last_time
+    return overlap and abs(a - b) <= SAME_CLOCK_S
 
 
 def _skipped(link: Finding, finding: Finding) -> bool:
@@ -184,6 +197,12 @@ def _same_edge(first: Finding, finding: Finding) -> bool:
     return bool(first.frames) and first.frames == finding.frames
 
 
+def _robots_alike(cause: Finding, finding: Finding) -> bool:
+    """A tree apart whose root the same node of several robots sends without a robot's prefix (two drones'
+    MAVROS sending fcu -> lidarlite_laser): no robot's tree holds it because its frames are every robot's."""
+    return robots_of(cause.authorities) is not None and bool(cause.frames) and cause.frames[0] in finding.frames[1:]
+
+
 def _under_it(first: Finding, finding: Finding) -> bool:
     """A frame under another the same finding found (one subtree: a second robot's links, each not in the
     description): the frame's parent is the cause's frame, both named with their parent."""
@@ -237,6 +256,13 @@ RULES = (
     ),
     Rule(
         frozenset({"multiple_authorities"}),
+        frozenset({"disconnected"}),
+        _robots_alike,
+        "a tree apart sent by the same node of several robots (each drone's MAVROS) under frame names without a "
+        "robot's prefix: one frame for every robot, attached to none, said once with the publishers",
+    ),
+    Rule(
+        frozenset({"multiple_authorities"}),
         frozenset({"clock", "stale"}),
         _on_the_older_clock,
         "edges stamped on the older of two clocks that take turns on one edge (a recording replayed with its own "
@@ -273,6 +299,13 @@ RULES = (
         _one_clock_ahead,
         "edges stamped ahead of their arrival by the same amount at the same time (fixed joints on /tf by ROS 1 "
         "robot_state_publisher's half second more): one machine's clock ahead of the recorder's, said once",
+    ),
+    Rule(
+        frozenset({"delay"}),
+        frozenset({"delay"}),
+        _one_clock_behind,
+        "edges that never arrived sooner than the same time after their stamps (two real drones' edges, none "
+        "sooner than 2.3 s): one clock behind the recorder's (or the recorder's ahead), said once",
     ),
     Rule(
         frozenset({"leading_slash"}),

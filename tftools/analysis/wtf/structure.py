@@ -15,6 +15,7 @@ from tftools.analysis.wtf.broadcasters import AtOnce, at_once, inferred_broadcas
 from tftools.analysis.wtf.loops import find_loops
 from tftools.analysis.wtf.mounts import mount_between, mount_hint
 from tftools.analysis.wtf.registry import register
+from tftools.analysis.wtf.robots import prefix_hint, robots_of, robots_said
 from tftools.analysis.wtf.rows import split
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
 from tftools.analysis.wtf.sensors import TYPO_CUTOFF, statics_missing
@@ -156,7 +157,8 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         Severity.error,
         "disconnected",
         f"{len(roots)} separate trees, and no lookup between them: {trees}",
-        _twin_root(roots, members, scene.tree)
+        _robots_alike(scene, roots, members)
+        or _twin_root(roots, members, scene.tree)
         or _base_unlike_description(scene, roots, members)
         or _misspelt_root(roots, members)
         or _mount_seen(scene, roots, members)
@@ -165,6 +167,26 @@ def disconnected(scene: Scene) -> Iterator[Finding]:
         tuple(roots),
         count=len(roots),
     )
+
+
+def _robots_alike(scene: Scene, roots: list[str], members: dict[str, list[str]]) -> str | None:
+    """A tree apart that the same node of several robots sends under frame names without a robot's prefix (two
+    drones' MAVROS each sending fcu -> lidarlite_laser): no robot's tree holds it."""
+    if not scene.publishers_known:
+        return None
+    rows = scene.rows
+    by_child = dict(rows.by_child(rows.usable))
+    for root in roots[1:TREES_DESCRIBED]:
+        frames = set(members[root]) - {root}
+        mine = [by_child[child] for child in frames if child in by_child]
+        robots = robots_of(scene.authorities_of(np.concatenate(mine))) if mine else None
+        if robots is not None:
+            child = next(c for c in members[root] if c in frames)
+            return (
+                f"{root}'s tree is sent by {robots_said(robots)}, under frame names without a robot's prefix: "
+                f"nothing attaches it to any robot's frames, and {prefix_hint(robots, (root, child), scene.ros2)}"
+            )
+    return None
 
 
 def _base_unlike_description(scene: Scene, roots: list[str], members: dict[str, list[str]]) -> str | None:
@@ -455,12 +477,17 @@ def _same_statics(scene: Scene, group: StaticShared) -> Finding:
     apart = f". Told apart by their messages (the recording names none): one {told}" if inferred else ""
     many = senders.inferred and len(group.names) > 2
     who = f"{len(group.names)} /tf_static publishers (unnamed)" if many else and_joined(group.names)
+    hint = "fine: tf2 keeps one value per static transform, and here they are equal; one publisher is enough"
+    robots = None if senders.inferred else robots_of(group.names)
+    if robots is not None:  # three drones' MAVROS, each sending its local_origin -> local_origin_ned
+        who = f"{who} ({robots_said(robots)})"
+        hint = f"equal values, so no lookup differs today; but {prefix_hint(robots, group.agree[0], scene.ros2)}"
     return scene.finding(
         Severity.info,
         "multiple_authorities",
         f"{who} {'both' if len(group.names) == 2 else 'all'} send {counted(len(agree), 'static transform')}, with "
         f"the same values: {listed(agree)}{apart}",
-        "fine: tf2 keeps one value per static transform, and here they are equal; one publisher is enough",
+        hint,
         tuple(dict.fromkeys(f for p, c in group.agree for f in (p, c))),
         group.rows,
         scene.arrival(group.rows),
@@ -490,6 +517,10 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
             "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter, "
             "cartographer's provide_odom_frame)"
         )
+        robots = robots_of(who) if scene.publishers_known else None
+        if robots is not None:  # two drones' MAVROS: each robot's frame, not a second publisher of one
+            message = f"{message} ({robots_said(robots)})"
+            hint = prefix_hint(robots, (parent, child), scene.ros2)
     else:
         severity = Severity.info
         message = f"{edge(parent, child)} was handed over between {source}, one after the other: {parts}"

@@ -15,7 +15,16 @@ from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.buffer import DEFAULT_CACHE_TIME
-from tftools.core.figures import Sightings, apart, held_apart, pauses, record_span, silence_limit, sustained_period
+from tftools.core.figures import (
+    Sightings,
+    apart,
+    held_apart,
+    longest_interval,
+    pauses,
+    record_span,
+    silence_limit,
+    sustained_period,
+)
 from tftools.core.figures import delays as delays_of
 from tftools.core.history import old_data
 from tftools.core.semantics import dialect
@@ -241,18 +250,34 @@ def delay(scene: Scene) -> Iterator[Finding]:
                 f"none arrived sooner than {duration(delays.min() / NS_PER_S)} after its stamp: most likely the "
                 f"publisher's clock runs behind the recorder's (sync the clocks: chrony/NTP); else {causes}"
             )
-        yield e.finding(
+        found = e.finding(
             Severity.warning,
             "delay",
             f"{edge(*e.key)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
             f"more than {scene.thresholds.delay:g} s after their stamp (median "
             f"{duration(float(np.median(delays)) / NS_PER_S)}, at most {duration(delays.max() / NS_PER_S)}{coarse}), "
-            f"first at {scene.at(int(records[late].min()))}",
+            f"first at {scene.at(int(records[late].min()))}{_held_back(scene, stamps, records)}",
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
             f"waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
             f"delays it ({causes})",
             stamps[late],
         )
+        yield dataclasses.replace(found, figures={"late_s_min": delays.min() / NS_PER_S})
+
+
+def _held_back(scene: Scene, stamps: Int64Array, records: Int64Array) -> str:
+    """The longest time nothing of an edge arrived, where its stamps went on meanwhile (a real drone's tf over WiFi:
+    12.0 s without a sample, those stamped meanwhile arriving together after it): the samples were held back on
+    their way, which the late ones' largest delays are; nothing where its stamps paused as long (``rate``'s)."""
+    if len(records) < 2:
+        return ""
+    longest, start = longest_interval(np.sort(records))
+    if longest <= from_sec(scene.thresholds.max_gap) or longest_interval(np.sort(stamps))[0] * 2 > longest:
+        return ""
+    return (
+        f"; none arrived for {duration(longest / NS_PER_S)} from {scene.at(start)} while its stamps went "
+        "on: the samples stamped meanwhile were held back on their way, and came late together"
+    )
 
 
 @register("rate", Severity.warning, "irregular publishing and long gaps")
