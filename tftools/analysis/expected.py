@@ -290,7 +290,10 @@ def _pace(hist: EdgeHistory) -> float | None:
 def _tail(hist: EdgeHistory, rate: float, recording: Recording) -> Tail | None:
     """How a moving edge's samples from its latest parent end in ``recording`` (``Tail``); None where their
     arrivals or the recording's end are not known on one clock (``figures.silence``), or staleness cannot be
-    measured (``Timeline.available``: a simulation's rate on its slow clock against silences on the wall's)."""
+    measured (``Timeline.available``: a simulation's rate on its slow clock against silences on the wall's).
+    Whether it stopped is measured as wtf's stale measures it (``Timeline.silence``: in ROS time under /clock, so
+    that a simulation paused with its tf at the end stopped nothing); its arrival and silence are said on the record
+    clock."""
     if not recording.timeline.available:
         return None
     mine = hist.parents == hist.latest_parent
@@ -301,7 +304,8 @@ def _tail(hist: EdgeHistory, rate: float, recording: Recording) -> Tail | None:
         return None
     stamp = int(hist.stamps[mine][last])
     length = recording.end - recording.start
-    return Tail(int(records[last]) - recording.start, stamp, length, stopped(silent, rate, STOP_FLOOR))
+    on_its_clock = recording.timeline.silence(int(records[last]), recording.end)  # wtf's stale: ROS time
+    return Tail(int(records[last]) - recording.start, stamp, length, stopped(on_its_clock, rate, STOP_FLOOR))
 
 
 def _on_tf_hz(hist: EdgeHistory) -> float:
