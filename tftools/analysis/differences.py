@@ -45,7 +45,8 @@ class Difference:
     frames whose like difference is said with this one, not each on its own line: a rate's, edges that came in the
     same messages as this one in A, in B or in both (``sent_in``: "a", "b", "both") and changed rate as it did
     (``beneath_all``: every one of them is below it in A); a stop's, edges that stopped early in the same recording
-    at the same point."""
+    at the same point. ``mimics`` names the frames of the joints that follow this one (the recorded description's
+    ``<mimic>``), held apart with it."""
 
     change: Change
     frame: str
@@ -60,6 +61,7 @@ class Difference:
     said_with: tuple[str, ...] = ()
     sent_in: str = ""
     beneath_all: bool = False
+    mimics: tuple[str, ...] = ()
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -73,11 +75,48 @@ def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Differen
         else:
             found.extend(_frame(before, after, tolerances))
     found.extend(Difference(Change.added, name, None, f) for name, f in b.frames.items() if name not in a.frames)
-    found = _stopped_together(_changed_together(found, a, b, tolerances))
+    found = _stopped_together(_changed_together(_mimicked(found, a, b), a, b, tolerances))
     if any(d.part is not None for d in found):
         below = _beneath(a)
         found = [replace(d, beneath=below.get(d.frame, 0)) if d.part is not None else d for d in found]
     return found
+
+
+def _mimicked(found: list[Difference], a: TreeShape, b: TreeShape) -> list[Difference]:
+    """``found`` with each mimic joint held apart (``moved``, held in both) said with the joint it follows, where
+    that one is held apart too (``Difference.mimics``): the PR2's fingers follow its gripper's one joint. Which
+    joint mimics which is the recorded descriptions' (``TreeShape.mimics``; where both hold one, what both say);
+    a recording without one is left as it was, nothing guessed."""
+    leaders = _agreed(a.mimics, b.mimics)
+    held = {d.frame for d in found if d.change is Change.moved and _held_both(d)}
+    followers: dict[str, list[str]] = {}
+    for frame in held:
+        leader, seen = leaders.get(frame), {frame}
+        while leader is not None and leader in leaders and leader not in seen:  # the joint a chain follows
+            seen.add(leader)
+            leader = leaders[leader]
+        if leader is not None and leader in held and leader != frame:
+            followers.setdefault(leader, []).append(frame)
+    if not followers:
+        return found
+    folded = {f for names in followers.values() for f in names}
+    order = {d.frame: i for i, d in enumerate(found)}
+    return [
+        replace(d, mimics=tuple(sorted(followers[d.frame], key=order.__getitem__))) if d.frame in followers else d
+        for d in found
+        if not (d.frame in folded and d.change is Change.moved)
+    ]
+
+
+def _agreed(mine: dict[str, str], theirs: dict[str, str]) -> dict[str, str]:
+    """The mimic joints both descriptions say alike; one side's where only one recording holds a description."""
+    if not mine or not theirs:
+        return mine or theirs
+    return {frame: leader for frame, leader in mine.items() if theirs.get(frame) == leader}
+
+
+def _held_both(d: Difference) -> bool:
+    return d.before is not None and d.after is not None and d.before.held is not None and d.after.held is not None
 
 
 def _changed_together(found: list[Difference], a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -400,7 +439,7 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         what, why = _PARTS[d.part]
         return (
             f"{edge}, {what} {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart{why}: "
-            f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}"
+            f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}{_mimics(d.mimics)}"
         )
     if d.change is Change.moved and before.held is not None and after.held is not None:
         return (
@@ -501,6 +540,14 @@ def _stopped_with(d: Difference, early: str, other: str) -> str:
     n = len(d.said_with)
     which = f"the edges of {n} more frames" if n > 1 else "the edge of one more frame"
     return f"; {which} stopped in {early} at the same point, each sent to the end in {other}: {', '.join(d.said_with)}"
+
+
+def _mimics(mimics: tuple[str, ...]) -> str:
+    """The mimic joints said with the joint they follow (``Difference.mimics``), by their frames."""
+    if not mimics:
+        return ""
+    joints = "its mimic joint's frame" if len(mimics) == 1 else f"its {len(mimics)} mimic joints' frames"
+    return f"; {joints} (the recorded /robot_description's <mimic>) followed it: {', '.join(mimics)}"
 
 
 def _with_it(beneath: int) -> str:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 import numpy.typing as npt
@@ -154,6 +154,9 @@ class TreeShape:
     #: The moving edges (by child frame) that came in the same messages (``sent_together``), each group of two
     #: or more in the tree's order; empty where not known (a tree file, a URDF).
     together: tuple[tuple[str, ...], ...] = ()
+    #: Of the robot's joints that mimic another (a recorded /robot_description's ``<mimic>``), each one's child
+    #: frame and the child frame of the joint it follows; empty where the recording holds no description.
+    mimics: dict[str, str] = field(default_factory=dict)
 
 
 def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:

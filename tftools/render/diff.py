@@ -87,5 +87,6 @@ def _difference(d: Difference, note: str) -> dict[str, Any]:
         "beneath": d.beneath,
         "said_with": list(d.said_with),
         "sent_in": d.sent_in or None,
+        "mimics": list(d.mimics),
         "damage": note or None,
     }
