@@ -102,7 +102,9 @@ def _mimicked(found: list[Difference], a: TreeShape, b: TreeShape) -> list[Diffe
     folded = {f for names in followers.values() for f in names}
     order = {d.frame: i for i, d in enumerate(found)}
     return [
-        replace(d, mimics=tuple(sorted(followers[d.frame], key=order.__getitem__))) if d.frame in followers else d
+        replace(d, mimics=tuple(sorted(followers[d.frame], key=order.__getitem__)))
+        if d.frame in followers and d.change is Change.moved
+        else d
         for d in found
         if not (d.frame in folded and d.change is Change.moved)
     ]
@@ -146,7 +148,7 @@ def _changed_together(found: list[Difference], a: TreeShape, b: TreeShape, toler
             sent_in = "both" if sides == {0, 1} else "a" if sides == {0} else "b"
             beneath = set(mates) <= below.get(first.frame, set())
             said[first.frame] = replace(first, said_with=tuple(mates), sent_in=sent_in, beneath_all=beneath)
-    return [said.get(d.frame, d) if d.change is Change.rate else d for d in found if not _taken(d, taken)]
+    return [said.get(d.frame, d) if _taken(d, set(said)) else d for d in found if not _taken(d, taken)]
 
 
 def _stopped_together(found: list[Difference]) -> list[Difference]:
