@@ -46,13 +46,16 @@ def test_the_neato_whose_odometry_stopped_11_s_before_the_end_against_a_run_sent
 ) -> None:
     """Two real Neato wall-follower runs: in the 2023 one the driver's odom -> base_footprint and its wheels last
     arrive 59.7 s into 71.1 s (wtf's stale says so), in the 2022 one until 30.8 s of 30.9 s. diff said no
-    difference; it now says, once per edge, which stopped early and when, against the run sent to its end."""
+    difference; it now says which stopped early and when, against the run sent to its end: once, as the three
+    stopped at one point (diff46: three lines before, one a stopped edge)."""
     code, found = _diff(tfx, corpus, NEATO_2022, NEATO_STOPPED)
-    stopped = {d["frame"]: d["message"] for d in found if d["change"] == "stopped"}
-    assert sorted(stopped) == ["base_footprint", "wheel_left_link", "wheel_right_link"], found
-    assert stopped["base_footprint"] == (
+    stopped = {d["frame"]: d for d in found if d["change"] == "stopped"}
+    assert sorted(stopped) == ["base_footprint"], found
+    assert stopped["base_footprint"]["said_with"] == ["wheel_left_link", "wheel_right_link"]
+    assert stopped["base_footprint"]["message"] == (
         "odom -> base_footprint stopped early in B: its last sample (stamped 1694540917.403) arrived 59.7 s into "
-        "B's 71.1 s, silent for its last 11.3 s; in A it was sent to the end (30.8 s of 30.9 s)"
+        "B's 71.1 s, silent for its last 11.3 s; in A it was sent to the end (30.8 s of 30.9 s); the edges of 2 more "
+        "frames stopped in B at the same point, each sent to the end in A: wheel_left_link, wheel_right_link"
     )
     assert code == 1
     _, itself = _diff(tfx, corpus, NEATO_STOPPED, NEATO_STOPPED)

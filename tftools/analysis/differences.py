@@ -41,7 +41,12 @@ class Difference:
     ``rate_change`` the rate's relative change (B / A - 1, -1 where B has no rate; None where A has none; whether
     it differs is ``rates_apart``'s), of the publisher ``source`` where the edge has several (None: the edge's).
     ``part`` says what an edge held still in both is (a joint, a fixed part; None: not known), ``beneath`` how many
-    frames are below it in A: each moved with it, none a difference of its own for that."""
+    frames are below it in A: each moved with it, none a difference of its own for that. ``said_with`` names the
+    frames whose like difference is said with this one, not each on its own line: a rate's, edges that came in the
+    same messages as this one in A, in B or in both (``sent_in``: "a", "b", "both") and changed rate as it did
+    (``beneath_all``: every one of them is below it in A); a stop's, edges that stopped early in the same recording
+    at the same point. ``mimics`` names the frames of the joints that follow this one (the recorded description's
+    ``<mimic>``), held apart with it."""
 
     change: Change
     frame: str
@@ -53,6 +58,10 @@ class Difference:
     source: str | None = None
     part: Part | None = None
     beneath: int = 0
+    said_with: tuple[str, ...] = ()
+    sent_in: str = ""
+    beneath_all: bool = False
+    mimics: tuple[str, ...] = ()
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -66,27 +75,166 @@ def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Differen
         else:
             found.extend(_frame(before, after, tolerances))
     found.extend(Difference(Change.added, name, None, f) for name, f in b.frames.items() if name not in a.frames)
+    found = _stopped_together(_changed_together(_mimicked(found, a, b), a, b, tolerances))
     if any(d.part is not None for d in found):
         below = _beneath(a)
         found = [replace(d, beneath=below.get(d.frame, 0)) if d.part is not None else d for d in found]
     return found
 
 
+def _mimicked(found: list[Difference], a: TreeShape, b: TreeShape) -> list[Difference]:
+    """``found`` with each mimic joint held apart (``moved``, held in both) said with the joint it follows, where
+    that one is held apart too (``Difference.mimics``): the PR2's fingers follow its gripper's one joint. Which
+    joint mimics which is the recorded descriptions' (``TreeShape.mimics``; where both hold one, what both say);
+    a recording without one is left as it was, nothing guessed."""
+    leaders = _agreed(a.mimics, b.mimics)
+    held = {d.frame for d in found if d.change is Change.moved and _held_both(d)}
+    followers: dict[str, list[str]] = {}
+    for frame in held:
+        leader, seen = leaders.get(frame), {frame}
+        while leader is not None and leader in leaders and leader not in seen:  # the joint a chain follows
+            seen.add(leader)
+            leader = leaders[leader]
+        if leader is not None and leader in held and leader != frame:
+            followers.setdefault(leader, []).append(frame)
+    if not followers:
+        return found
+    folded = {f for names in followers.values() for f in names}
+    order = {d.frame: i for i, d in enumerate(found)}
+    return [
+        replace(d, mimics=tuple(sorted(followers[d.frame], key=order.__getitem__)))
+        if d.frame in followers and d.change is Change.moved
+        else d
+        for d in found
+        if not (d.frame in folded and d.change is Change.moved)
+    ]
+
+
+def _agreed(mine: dict[str, str], theirs: dict[str, str]) -> dict[str, str]:
+    """The mimic joints both descriptions say alike; one side's where only one recording holds a description."""
+    if not mine or not theirs:
+        return mine or theirs
+    return {frame: leader for frame, leader in mine.items() if theirs.get(frame) == leader}
+
+
+def _held_both(d: Difference) -> bool:
+    return d.before is not None and d.after is not None and d.before.held is not None and d.after.held is not None
+
+
+def _changed_together(found: list[Difference], a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
+    """``found`` with the edges that came in the same messages (``TreeShape.together``, in A or in B) and changed
+    rate alike (their rates within the tolerance of each other's in A, and in B) said once, with the first of
+    them in A's order (``Difference.said_with``): the Kinect's five edges in one robot_state_publisher's messages
+    at 50 Hz in one recording, at 10 Hz from static_transform_publishers in the other, are one change."""
+    rated = [d for d in found if d.change is Change.rate and d.source is None and d.before and d.after]
+    if len(rated) < 2:
+        return found
+    groups = [_group_of(a.together), _group_of(b.together)]
+    taken: set[str] = set()
+    said: dict[str, Difference] = {}
+    below = _below(a)
+    for i, first in enumerate(rated):
+        if first.frame in taken:
+            continue
+        mates: list[str] = []
+        sides: set[int] = set()
+        for other in rated[i + 1 :]:
+            shared = {k for k in (0, 1) if _same_group(groups[k], first.frame, other.frame)}
+            if other.frame not in taken and shared and _alike(first, other, tolerances):
+                mates.append(other.frame)
+                sides |= shared
+        if mates:
+            taken.update(mates)
+            sent_in = "both" if sides == {0, 1} else "a" if sides == {0} else "b"
+            beneath = set(mates) <= below.get(first.frame, set())
+            said[first.frame] = replace(first, said_with=tuple(mates), sent_in=sent_in, beneath_all=beneath)
+    return [said.get(d.frame, d) if _taken(d, set(said)) else d for d in found if not _taken(d, taken)]
+
+
+def _stopped_together(found: list[Difference]) -> list[Difference]:
+    """``found`` with the edges that stopped early in the same recording, sent to the end in the other, at one
+    point (their last arrivals no further apart than ``_stopped_apart`` allows one edge's) said once, with the first
+    of them in A's order (``Difference.said_with``): a simulation paused before its recording ended stops its
+    odometry and its wheels at once."""
+    stops = [d for d in found if d.change is Change.stopped and _one_stopped(d)]
+    taken: set[str] = set()
+    said: dict[str, Difference] = {}
+    for i, first in enumerate(stops):
+        if first.frame in taken:
+            continue
+        mates = [d.frame for d in stops[i + 1 :] if d.frame not in taken and _at_one_point(first, d)]
+        if mates:
+            taken.update(mates)
+            said[first.frame] = replace(first, said_with=tuple(mates))
+    if not said:
+        return found
+    return [said.get(d.frame, d) if d.change is Change.stopped else d for d in found if not _stop_taken(d, taken)]
+
+
+def _one_stopped(d: Difference) -> bool:
+    """Whether a ``stopped`` difference is an edge stopped early in one recording, sent to the end in the other."""
+    tails = (d.before.tail, d.after.tail) if d.before is not None and d.after is not None else (None, None)
+    return tails[0] is not None and tails[1] is not None and tails[0].stopped != tails[1].stopped
+
+
+def _at_one_point(one: Difference, other: Difference) -> bool:
+    """Whether two edges stopped early in the same recording at one point: their last arrivals there no further
+    apart than the slower one's own rate explains (``figures.stopped`` at ``STOP_FLOOR``)."""
+    sides = []
+    for d in (one, other):
+        assert d.before is not None and d.after is not None and d.before.tail is not None and d.after.tail is not None
+        early = d.before if d.before.tail.stopped else d.after
+        assert early.tail is not None
+        sides.append((early is d.before, early.tail.arrived, early.rate_hz or 0.0))
+    (side, arrived, rate), (other_side, other_arrived, other_rate) = sides
+    return side == other_side and not stopped(abs(arrived - other_arrived), min(rate, other_rate), STOP_FLOOR)
+
+
+def _stop_taken(d: Difference, taken: set[str]) -> bool:
+    return d.change is Change.stopped and d.frame in taken
+
+
+def _taken(d: Difference, taken: set[str]) -> bool:
+    return d.change is Change.rate and d.source is None and d.frame in taken
+
+
+def _group_of(together: tuple[tuple[str, ...], ...]) -> dict[str, int]:
+    return {name: k for k, names in enumerate(together) for name in names}
+
+
+def _same_group(group: dict[str, int], one: str, other: str) -> bool:
+    return one in group and group.get(other) == group[one]
+
+
+def _alike(one: Difference, other: Difference, tolerances: Tolerances) -> bool:
+    """Whether two edges' rates are within the tolerance of each other in A and in B."""
+    assert one.before is not None and one.after is not None and other.before is not None and other.after is not None
+    return all(
+        rates_apart(x or 0.0, y or 0.0) * 100 <= tolerances.rate_percent
+        for x, y in ((one.before.rate_hz, other.before.rate_hz), (one.after.rate_hz, other.after.rate_hz))
+    )
+
+
 def _beneath(tree: TreeShape) -> dict[str, int]:
     """How many frames are below each frame of ``tree`` (0 for a leaf; a loop's frames count none)."""
+    return {name: len(names) for name, names in _below(tree).items()}
+
+
+def _below(tree: TreeShape) -> dict[str, set[str]]:
+    """The frames below each frame of ``tree`` (none for a leaf; a loop's frames have none)."""
     children: dict[str, list[str]] = {}
     for f in tree.frames.values():
         if f.parent is not None:
             children.setdefault(f.parent, []).append(f.frame)
-    counts: dict[str, int] = {}
+    found: dict[str, set[str]] = {}
     for root in (name for name, f in tree.frames.items() if f.parent is None):
         order, stack = [], [root]
         while stack:
             order.append(stack.pop())
             stack.extend(children.get(order[-1], ()))
         for name in reversed(order):
-            counts[name] = sum(1 + counts[c] for c in children.get(name, ()))
-    return counts
+            found[name] = {c for child in children.get(name, ()) for c in (child, *found[child])}
+    return found
 
 
 def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
@@ -293,7 +441,7 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         what, why = _PARTS[d.part]
         return (
             f"{edge}, {what} {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart{why}: "
-            f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}"
+            f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}{_mimics(d.mimics)}"
         )
     if d.change is Change.moved and before.held is not None and after.held is not None:
         return (
@@ -332,7 +480,10 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             return f"{edge} at {_rate(now)} in {b}, {_rate(was)} in {a}{sums}"
         slower = b if now < was else a
         apart = rates_apart(was, now)
-        return f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower){sums}"
+        return (
+            f"{edge} at {now:.1f} Hz in {b}, {was:.1f} Hz in {a} ({slower} {apart:.0%} slower){sums}"
+            f"{_sent_with(d, a, b)}"
+        )
     if d.change is Change.stopped and before.tail is not None and after.tail is not None:
         if before.tail.stopped and after.tail.stopped:
             rate = min(before.rate_hz or 0.0, after.rate_hz or 0.0)
@@ -345,7 +496,7 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         return (
             f"{edge} stopped early in {early}: its last sample (stamped {_stamp(tail.stamp)}) arrived "
             f"{_s(tail.arrived)} into {early}'s {_s(tail.length)}, silent for its last {_s(tail.silent)}; in {other} "
-            f"it was sent to the end ({_s(sent.arrived)} of {_s(sent.length)})"
+            f"it was sent to the end ({_s(sent.arrived)} of {_s(sent.length)}){_stopped_with(d, early, other)}"
         )
     if d.change is Change.clocks and _kinds_apart(before, after):
         return (
@@ -371,6 +522,34 @@ _PARTS = {
         " (a calibration, or another description of the robot)",
     ),
 }
+
+
+def _sent_with(d: Difference, a: str, b: str) -> str:
+    """The edges said with a rate's change (``said_with``): where they came with it, and their frames."""
+    if not d.said_with:
+        return ""
+    side = {"a": f"in {a}", "b": f"in {b}", "both": f"in {a} and in {b}"}[d.sent_in]
+    n = len(d.said_with)
+    which = f"the {n} frames beneath it" if d.beneath_all and n > 1 else "the frame beneath it" if d.beneath_all else ""
+    which = which or (f"{n} more frames" if n > 1 else "one more frame")
+    return f"; the edges of {which}, sent in the same messages {side}, changed rate with it: {', '.join(d.said_with)}"
+
+
+def _stopped_with(d: Difference, early: str, other: str) -> str:
+    """The edges said with a stop (``said_with``): they stopped at the same point, sent to the end in the other."""
+    if not d.said_with:
+        return ""
+    n = len(d.said_with)
+    which = f"the edges of {n} more frames" if n > 1 else "the edge of one more frame"
+    return f"; {which} stopped in {early} at the same point, each sent to the end in {other}: {', '.join(d.said_with)}"
+
+
+def _mimics(mimics: tuple[str, ...]) -> str:
+    """The mimic joints said with the joint they follow (``Difference.mimics``), by their frames."""
+    if not mimics:
+        return ""
+    joints = "its mimic joint's frame" if len(mimics) == 1 else f"its {len(mimics)} mimic joints' frames"
+    return f"; {joints} (the recorded /robot_description's <mimic>) followed it: {', '.join(mimics)}"
 
 
 def _with_it(beneath: int) -> str:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 import numpy.typing as npt
@@ -151,6 +151,12 @@ class TreeShape:
     tolerances: Tolerances = Tolerances()
     #: Why a recording's tree has no frame: it holds no transforms on the topics read (else "").
     empty: str = ""
+    #: The moving edges (by child frame) that came in the same messages (``sent_together``), each group of two
+    #: or more in the tree's order; empty where not known (a tree file, a URDF).
+    together: tuple[tuple[str, ...], ...] = ()
+    #: Of the robot's joints that mimic another (a recorded /robot_description's ``<mimic>``), each one's child
+    #: frame and the child frame of the joint it follows; empty where the recording holds no description.
+    mimics: dict[str, str] = field(default_factory=dict)
 
 
 def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
@@ -191,18 +197,17 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             pace=_pace(moving) if moving is not None else None,
             tail=_tail(moving, summary.rate_hz, recording) if moving is not None else None,
         )
-    for name, joint in joints(buffer, frames).items():
+    together = sent_together(buffer, frames)
+    for name, joint in joints(together, frames).items():
         frames[name] = replace(frames[name], joint=joint)
-    return TreeShape(frames, " + ".join(recording.paths))
+    return TreeShape(frames, " + ".join(recording.paths), together=tuple(g for g in together if len(g) > 1))
 
 
-def joints(buffer: Buffer, frames: dict[str, FrameShape]) -> dict[str, bool]:
-    """Which moving edges held still (``held``) are joints and which fixed parts, by the messages they came in
-    (edges of one message share its record time, stamp and publisher): a joint where it came with edges that move
-    (a joint state publisher's joints), a fixed part where it came with several edges none of which moves while
-    the recording sends its joints apart from them (tf1's robot_state_publisher: its fixed transforms at 50 Hz,
-    its joints at /joint_states' rate). Empty where the recording sends no joints so: an arm held still whole
-    (every edge held) tells no joint from a fixed part."""
+def sent_together(buffer: Buffer, frames: dict[str, FrameShape]) -> list[tuple[str, ...]]:
+    """The moving edges of ``frames`` (from their latest parents, seen twice or more) grouped by the messages
+    they came in, each group in ``frames``' order: edges of one message share its record time, stamp and
+    publisher, so edges that came in the same messages share all three in every sample. An edge sent alone is a
+    group of one; none where the recording has no record times."""
     groups: dict[tuple[int, int], list[str]] = {}
     for name, f in frames.items():
         hist = buffer.history(name)
@@ -214,12 +219,22 @@ def joints(buffer: Buffer, frames: dict[str, FrameShape]) -> dict[str, bool]:
             order = np.lexsort((stamps, records))
             sent = np.stack([records[order], stamps[order], hist.authorities[mine][order].astype(np.int64)])
             groups.setdefault((len(records), hash(sent.tobytes())), []).append(name)
-    moves = [[frames[n].held is None for n in names] for names in groups.values()]
+    return [tuple(names) for names in groups.values()]
+
+
+def joints(together: Sequence[Sequence[str]], frames: dict[str, FrameShape]) -> dict[str, bool]:
+    """Which moving edges held still (``held``) are joints and which fixed parts, by the messages they came in
+    (``sent_together``): a joint where it came with edges that move (a joint state publisher's joints), a fixed
+    part where it came with several edges none of which moves while the recording sends its joints apart from
+    them (tf1's robot_state_publisher: its fixed transforms at 50 Hz, its joints at /joint_states' rate). Empty
+    where the recording sends no joints so: an arm held still whole (every edge held) tells no joint from a fixed
+    part."""
+    moves = [[frames[n].held is None for n in names] for names in together]
     if not any(len(m) > 1 and any(m) and not all(m) for m in moves):
         return {}
     return {
         name: any(m)
-        for names, m in zip(groups.values(), moves, strict=True)
+        for names, m in zip(together, moves, strict=True)
         if len(names) > 1
         for name, moving in zip(names, m, strict=True)
         if not moving
@@ -290,7 +305,10 @@ def _pace(hist: EdgeHistory) -> float | None:
 def _tail(hist: EdgeHistory, rate: float, recording: Recording) -> Tail | None:
     """How a moving edge's samples from its latest parent end in ``recording`` (``Tail``); None where their
     arrivals or the recording's end are not known on one clock (``figures.silence``), or staleness cannot be
-    measured (``Timeline.available``: a simulation's rate on its slow clock against silences on the wall's)."""
+    measured (``Timeline.available``: a simulation's rate on its slow clock against silences on the wall's).
+    Whether it stopped is measured as wtf's stale measures it (``Timeline.silence``: in ROS time under /clock, so
+    that a simulation paused with its tf at the end stopped nothing); its arrival and silence are said on the record
+    clock."""
     if not recording.timeline.available:
         return None
     mine = hist.parents == hist.latest_parent
@@ -301,7 +319,8 @@ def _tail(hist: EdgeHistory, rate: float, recording: Recording) -> Tail | None:
         return None
     stamp = int(hist.stamps[mine][last])
     length = recording.end - recording.start
-    return Tail(int(records[last]) - recording.start, stamp, length, stopped(silent, rate, STOP_FLOOR))
+    on_its_clock = recording.timeline.silence(int(records[last]), recording.end)  # wtf's stale: ROS time
+    return Tail(int(records[last]) - recording.start, stamp, length, stopped(on_its_clock, rate, STOP_FLOOR))
 
 
 def _on_tf_hz(hist: EdgeHistory) -> float:

@@ -85,5 +85,8 @@ def _difference(d: Difference, note: str) -> dict[str, Any]:
         "source": d.source,
         "part": d.part.value if d.part is not None else None,
         "beneath": d.beneath,
+        "said_with": list(d.said_with),
+        "sent_in": d.sent_in or None,
+        "mimics": list(d.mimics),
         "damage": note or None,
     }

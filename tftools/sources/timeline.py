@@ -396,6 +396,13 @@ class Timeline:
             return np.zeros(len(records), np.int64), np.zeros(len(records), bool)
         return clock_at(self.clock, records)
 
+    def silence(self, last_arrival: int, end: int) -> int:
+        """How long (ns) before ``end`` (the recording's, a record time) a stream last arrived at ``last_arrival``:
+        in ROS time where this timeline reads it at both (under /clock: a simulation slowed or paused at the end
+        kept tf fresh on its own time, as a listener on it sees), else on the record clock."""
+        ros, known = self.ros_time(np.array([last_arrival, end], np.int64))
+        return int(ros[1] - ros[0]) if known.all() else end - last_arrival
+
     def counted_at(self, record_times: Int64Array, stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
         """When messages recorded at ``record_times`` (stamped ``stamps``) arrived on the clock a listener counts
         them on, and which are timed: tf_monitor rates a publisher by ``ros::Time::now()`` at each callback, the

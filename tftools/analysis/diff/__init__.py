@@ -10,6 +10,7 @@ from pathlib import Path
 
 from tftools.analysis.description import described_differences, description_shape
 from tftools.analysis.diff.damage import Damaged, damage_notes, damage_of
+from tftools.analysis.diff.mimics import recorded_mimics
 from tftools.analysis.differences import Difference, compare
 from tftools.analysis.expected import Tolerances, TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
@@ -112,7 +113,7 @@ def _recorded(read: Callable[[], Recording], source: str) -> tuple[TreeShape, Da
     """``recorded_shape``, and what was damaged in the recording."""
     try:
         recording = read()
-        shape = shape_of(recording)
+        shape = dataclasses.replace(shape_of(recording), mimics=recorded_mimics(recording))
     except NoTransformsError as error:
         if error.cause != "absent" or error.carriers:  # damaged, of a type not read, or on other topics
             raise

@@ -146,11 +146,8 @@ def _age(scene: Scene, stamp: int) -> int | None:
 
 
 def _silence(scene: Scene, last_arrival: int) -> int:
-    """How long before the recording's end an edge's last transform arrived, in ROS time where the timeline
-    reads it at both (under /clock: a simulation slowed or paused at the end kept tf fresh on its own time, as a
-    listener on it sees), else on the record clock."""
-    ros, known = scene.timeline.ros_time(np.array([last_arrival, scene.end], np.int64))
-    return int(ros[1] - ros[0]) if known.all() else scene.end - last_arrival
+    """How long before the recording's end an edge's last transform arrived (``Timeline.silence``)."""
+    return scene.timeline.silence(last_arrival, scene.end)
 
 
 def _sent(scene: Scene) -> dict[tuple[str, str], int]:
