@@ -40,6 +40,9 @@ STATIC_TOPIC = "/tf_static"
 #: The callerid of the connection carrying the added transforms in a ROS1 bag: their authority.
 PUBLISHER = "/tfx_static"
 
+#: At most this many repeats of the statics between two messages of the recording (an hour's at 10 s).
+SILENCE_REPEATS = 360
+
 #: A repaired copy repeats its static transforms this often (s of record time), so that playing it
 #: from any point, splitting it or filtering it by time keeps them: as often as wtf's static_volatile
 #: asks of statics re-sent through a recording.
@@ -305,6 +308,10 @@ class _Copy:
         try:
             # Where its description did not say where it starts (a damaged .db3), its first message does.
             mark = self.start(time) if self.mark is None else self.mark
+            if self.plan.every and (time - mark) // self.plan.every > SILENCE_REPEATS:
+                # A silence of hours, or a record time decades from the rest (a clock reset, a damaged file): the
+                # repeats of its last stretch only; one every 10 s of it is a loop sized by a time read from the file.
+                mark = time - (time - mark) % self.plan.every - SILENCE_REPEATS * self.plan.every
             while self.plan.every and time >= mark + self.plan.every:
                 mark += self.plan.every
                 self._statics(mark)
