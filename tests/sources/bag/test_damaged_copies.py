@@ -456,3 +456,22 @@ def test_a_real_db3_read_from_its_pages_lets_the_pages_read_go_as_it_goes(
     assert got and any("cut short" in p for p in problems)
     size = db3.stat().st_size
     assert len(released) >= size // (4 << 20) and set(released) == {(0, size)}
+
+
+def test_a_real_chunk_whose_message_index_lies_about_its_length_is_read_by_walking_it(tmp_path: Path) -> None:
+    """The Nav2 TurtleBot 4's .mcap, the byte length of one of its message indexes set to 2^31 - 1 (beyond the
+    file): its one chunk, intact, was lost ('no transforms could be read: 1 of 1 chunks could not be read (bad
+    message index)', exit 2 on every command); now its records are walked, every message read, the index said."""
+    bag = copied(NAV2_TB4, tmp_path)
+    whole, _ = rows(bag)
+    (chunk,) = _chunks(bag)
+    at = min(chunk.index_offsets.values())
+    with bag.open("r+b") as f:  # opcode (1), record length (8), channel id (2), then the entries' byte length
+        f.seek(at + 11)
+        f.write(struct.pack("<I", 0x7FFFFFFF))
+    got, problems = rows(bag)
+    assert got == whole
+    assert problems == [
+        "1 of 1 chunks is damaged (bad message index): all 8197 of its messages still parse and are read, but a "
+        "value among them may be wrong"
+    ]
