@@ -608,3 +608,30 @@ def _figures(findings: Sequence[Finding]) -> set[tuple[str, tuple[str, ...], int
 def _ext(connection: Any) -> Any:
     """A connection's format-specific part (ROS 1's callerid and latching, ROS 2's QoS profiles)."""
     return connection.ext
+
+
+def test_a_record_time_decades_from_the_rest_repeats_the_statics_at_most_an_hours_worth(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The TurtleBot 3 walker's .db3 (a real Gazebo run) with one /tf message recorded 50 years after the rest: its
+    copy repeated the statics every 10 s up to it, 157 million times (the sweep of every command hung on it). Now
+    a silence between two messages gets the repeats of its last hour at most, and the copy is refused in one line
+    (the message is left out of the read, as damage), with no copy left."""
+    from tests.sources.bag.damaged import copied, record_time_moved
+    from tftools.sinks import static_bag
+
+    bag = copied("ros2_db3_tb3_gazebo_walker", tmp_path)
+    record_time_moved(next(bag.glob("*.db3")), lambda t: t + 50 * 365 * 86_400 * 1_000_000_000)
+    sent: list[int] = []
+    repeat = static_bag._Copy._statics
+
+    def counted(copy: static_bag._Copy, stamp: int, ahead: bool = False) -> None:
+        sent.append(stamp)
+        assert len(sent) <= static_bag.SILENCE_REPEATS + 10, "the statics repeated through the decades"
+        repeat(copy, stamp, ahead)
+
+    monkeypatch.setattr(static_bag._Copy, "_statics", counted)
+    with pytest.raises(CopyError, match=r"cannot be copied whole: .* years after the rest"):
+        repair_static_transforms(bag, tmp_path / "out")
+    assert static_bag.SILENCE_REPEATS <= len(sent) <= static_bag.SILENCE_REPEATS + 10
+    assert sorted(p.name for p in tmp_path.iterdir()) == [bag.name]
