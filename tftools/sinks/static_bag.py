@@ -328,7 +328,7 @@ class _Copy:
         sent as tf2 holds them, with their own stamps (restamped, a repeat reads as another publisher's message
         where the recording names none: the real Neatos' repaired copies told 4 publishers of 2)."""
         messages = self.held.at(stamp) if self.held is not None else self.plan.stamped(stamp)
-        first = stamp - len(messages) if ahead else stamp
+        first = max(stamp - len(messages), 0) if ahead else stamp  # no record time before 0 (ROS 1, MCAP)
         for k, (sender, transforms) in enumerate(messages):
             if sent := self.plan.repeated(transforms, first + k):
                 self.writer.write(self._connection(self._sent_by(sender)), first + k, self._encode(sent))
