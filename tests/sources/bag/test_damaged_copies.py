@@ -492,7 +492,9 @@ def test_a_real_db3_sqlite_gives_up_on_lets_go_of_what_sqlite_held_before_its_pa
     (db3,) = bag.glob("*.db3")
     zeroed_pages(db3, 0.45)
     said: list[str] = []
-    asked, salvaged = Database.rows, db3_module.salvage
+    from tftools.sources.bag.rosbag2.db3_salvage import salvage as salvaged
+
+    asked = Database.rows
 
     def rows_of(db: Database, query: str) -> list[tuple[object, ...]]:
         said.append(query)
