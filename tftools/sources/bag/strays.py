@@ -41,7 +41,10 @@ def leave_out_strays(read: FileRead) -> None:
     info = read.info
     tf = [b.record_time for b in read.batches]
     others = [read.clock.record_time, *(s.record_time for s in read.stamped), *(w.record_time for w in read.whole)]
-    every = np.concatenate([np.zeros(0, np.int64), *tf, *others, read.sent.record_time, [info.start, info.end]])
+    arrays = [*tf, *others, read.sent.record_time, np.array([info.start, info.end], np.int64)]
+    if _spread(arrays) <= APART:  # the usual case, told without a sort
+        return
+    every = np.concatenate(arrays)
     kept = kept_span(every[every != 0])  # 0: a time not set (an MCAP's robot description logged at 0), kept
     if kept is None:
         return
@@ -73,6 +76,18 @@ def leave_out_strays(read: FileRead) -> None:
     if described:
         info.start, info.end = max(info.start, first) if info.start else 0, min(info.end, last)
     info.problems.append(_said(left, described, first, last))
+
+
+def _spread(arrays: Sequence[Int64Array]) -> int:
+    """From the earliest to the latest time of ``arrays`` but 0 (ns)."""
+    lows, highs = [], []
+    for times in arrays:
+        if len(times) and (int(times.min()) == 0 or int(times.max()) == 0):
+            times = times[times != 0]
+        if len(times):
+            lows.append(int(times.min()))
+            highs.append(int(times.max()))
+    return max(highs) - min(lows) if lows else 0
 
 
 def _stamped_kept(stream: StampedMessages, held: BoolArray, dropped_rows: Int64Array) -> StampedMessages:
