@@ -56,6 +56,9 @@ def leave_out_strays(read: FileRead) -> None:
 
     messages = [read.sent.record_time] if len(read.sent) else tf  # a tf message's once, not once a transform
     left = np.concatenate([np.zeros(0, np.int64), *(t[~inside(t)] for t in [*messages, *others])])
+    described = [t for t in (info.start, info.end) if t and not first <= t <= last]
+    if not len(left) and not described:  # only transforms without their message's time (none of a bag's)
+        return
     transforms = [inside(b.record_time) for b in read.batches]
     dropped_rows = np.flatnonzero(~np.concatenate([np.ones(0, bool), *transforms]))
     read.batches = [take_rows(b, np.flatnonzero(k)) for b, k in zip(read.batches, transforms, strict=True)]
@@ -72,7 +75,6 @@ def leave_out_strays(read: FileRead) -> None:
         for k in [inside(w.record_time)]
     ]
     info.transform_count -= len(dropped_rows)
-    described = [t for t in (info.start, info.end) if t and not first <= t <= last]
     if described:
         info.start, info.end = max(info.start, first) if info.start else 0, min(info.end, last)
     info.problems.append(_said(left, described, first, last))
