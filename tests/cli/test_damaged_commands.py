@@ -13,7 +13,7 @@ import pytest
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.fetch import shared_dir
-from tests.sources.bag.damaged import copied, cut, zeroed_pages
+from tests.sources.bag.damaged import copied, cut, record_time_moved, zeroed_pages
 from tests.sources.bag.damaged import overwritten as _overwritten
 
 UWB = "uwb-slam-Record_2017-11-17-12-31-28.bag"  # ROS 1, 27 lz4 chunks, a Robotino's odometry and wheels
@@ -150,6 +150,17 @@ def _flipped_and_cut(share: float, kept: float) -> Callable[[Path], None]:
     return damage
 
 
+def _recorded_at(to: Callable[[int], int]) -> Callable[[Path], None]:
+    """The middle /tf message recorded at ``to(its record time)``: decades from the rest."""
+
+    def damage(path: Path) -> None:
+        record_time_moved(path, to)
+
+    return damage
+
+
+_YEARS_50 = 50 * 365 * 86_400 * 1_000_000_000
+
 #: A real recording of each format and a damage to its copy (of its one data file, in a bag directory).
 DAMAGED: dict[str, tuple[str, Callable[[Path], None]]] = {
     "ros1 plain, cut": ("ros1_car_path_follower.bag", _cut_at(0.6)),
@@ -163,6 +174,9 @@ DAMAGED: dict[str, tuple[str, Callable[[Path], None]]] = {
     "ros1 lz4, overwritten, no index": (UWB, _flipped_and_cut(0.45, 0.97)),
     "mcap zstd, overwritten, no summary": ("ros2_mcap_nav2_turtlebot4.mcap", _flipped_and_cut(0.45, 0.97)),
     "db3, pages zeroed": ("ros2_db3_tb3_gazebo_walker", lambda path: zeroed_pages(path, 0.45)),
+    "db3, a record time 50 years on": ("ros2_db3_tb3_gazebo_walker", _recorded_at(lambda t: t + _YEARS_50)),
+    "mcap zstd, a record time of the last int64": ("ros2_mcap_nav2_turtlebot4.mcap", _recorded_at(lambda t: 2**63 - 1)),
+    "ros1, a record time in 2106": (UWB, _recorded_at(lambda t: 0xFFFFFFFF * 1_000_000_000)),
 }
 
 

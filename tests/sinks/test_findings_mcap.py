@@ -142,3 +142,18 @@ def test_report_refuses_an_existing_mcap_before_writing_its_page(tfx: Tfx, stopp
     result = tfx("report", stopping_bag, "-o", page, "--mcap", out)
     assert result.code == 2 and "exists" in result.stderr
     assert not page.exists() and out.read_bytes() == b"mine"
+
+
+def test_diagnostics_of_a_long_recording_are_bounded_in_number(
+    tfx: Tfx, stopping_bag: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Once a second over the recording's record times: a recording whose record times spanned decades (a time
+    from a damaged file) made a status a second from 1970 on, without end. Over ``MOST_STATUSES`` seconds they come
+    less often, spread over the whole: here at most 5 over the 19.9 s recording, from its start to its end."""
+    from tftools.sinks import findings_mcap
+
+    monkeypatch.setattr(findings_mcap, "MOST_STATUSES", 5)
+    out = tmp_path / "findings.mcap"
+    tfx("wtf", stopping_bag, "--mcap", out)
+    times = [at for topic, _, at, _ in _messages(out) if topic == "/diagnostics"]
+    assert len(times) == 5 and times[0] == START + 1_000_000 and times[-1] >= START + 15 * NS_PER_S, times

@@ -624,3 +624,46 @@ def _figures(findings: Sequence[Finding]) -> set[tuple[str, tuple[str, ...], int
 def _ext(connection: Any) -> Any:
     """A connection's format-specific part (ROS 1's callerid and latching, ROS 2's QoS profiles)."""
     return connection.ext
+
+
+def test_a_record_time_decades_from_the_rest_repeats_the_statics_at_most_an_hours_worth(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The TurtleBot 3 walker's .db3 (a real Gazebo run) with one /tf message recorded 50 years after the rest: its
+    copy repeated the statics every 10 s up to it, 157 million times (the sweep of every command hung on it). Now
+    a silence between two messages gets the repeats of its last hour at most, and the copy is refused in one line
+    (the message is left out of the read, as damage), with no copy left."""
+    from tests.sources.bag.damaged import copied, record_time_moved
+    from tftools.sinks import static_bag
+
+    bag = copied("ros2_db3_tb3_gazebo_walker", tmp_path)
+    record_time_moved(next(bag.glob("*.db3")), lambda t: t + 50 * 365 * 86_400 * 1_000_000_000)
+    sent: list[int] = []
+    repeat = static_bag._Copy._statics
+
+    def counted(copy: static_bag._Copy, stamp: int, ahead: bool = False) -> None:
+        sent.append(stamp)
+        assert len(sent) <= static_bag.SILENCE_REPEATS + 10, "the statics repeated through the decades"
+        repeat(copy, stamp, ahead)
+
+    monkeypatch.setattr(static_bag._Copy, "_statics", counted)
+    with pytest.raises(CopyError, match=r"cannot be copied whole: .* years after the rest"):
+        repair_static_transforms(bag, tmp_path / "out")
+    assert static_bag.SILENCE_REPEATS <= len(sent) <= static_bag.SILENCE_REPEATS + 10
+    assert sorted(p.name for p in tmp_path.iterdir()) == [bag.name]
+
+
+def test_a_ros1_bag_with_a_message_recorded_at_0_is_repaired(tmp_path: Path) -> None:
+    """The Robotino's bag (ROS 1) with one /tf message recorded at 0 (a time not set, kept as read): its repair
+    sent its statics ahead of it, before record time 0, and was refused ('cannot be written (error: argument out
+    of range)'). Now they are sent at 0 and the copy written, its statics repeated through the hour before the
+    rest (at most ``SILENCE_REPEATS``), not through the 47 years."""
+    from tests.sources.bag.damaged import copied, record_time_moved
+    from tftools.sinks import static_bag
+
+    bag = copied("uwb-slam-Record_2017-11-17-12-31-28.bag", tmp_path)
+    record_time_moved(bag, lambda t: 0)
+    written, _ = repair_static_transforms(bag, tmp_path / "out.bag")
+    with Ros1Reader(written) as copy:
+        times = sorted(t for c, t, _ in copy.messages() if c.topic == "/tf_static")
+    assert times[0] == 0 and len(times) <= static_bag.SILENCE_REPEATS + 2 * 57 // REPAIR_EVERY_S + 10

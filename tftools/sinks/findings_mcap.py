@@ -36,6 +36,9 @@ FRAMES_TOPIC = "/tfx/finding_frames"
 PERIOD = 1_000_000_000
 #: The window each second's edge figures are taken over (ns), as ``tfx wtf --watch``'s default.
 WINDOW = 10_000_000_000
+#: The statuses of one recording, at most: a longer one (a day of it, or a record time decades from the rest's) has
+#: them less often than once a ``PERIOD``.
+MOST_STATUSES = 100_000
 
 
 class FoxgloveSchemasMissingError(TfToolsError):
@@ -156,9 +159,10 @@ def active(finding: Finding, at: int, start: int, end: int) -> bool:
 def diagnostics_over(
     report: BagReport, recording: Recording, ignore: Sequence[str] = ()
 ) -> Iterator[tuple[int, list[Any]]]:
-    """The statuses once a ``PERIOD`` of the recording: the findings that hold then, and each edge's figures
-    over the ``WINDOW`` before."""
+    """The statuses once a ``PERIOD`` of the recording (``MOST_STATUSES`` at most): the findings that hold then, and
+    each edge's figures over the ``WINDOW`` before."""
     start, end = report.start, report.end
+    period = max(PERIOD, -(-(end - start) // max(MOST_STATUSES - 1, 1)))  # from its start to its end
     at = start
     while at <= end:
         held = dataclasses.replace(report, findings=[f for f in report.findings if active(f, at, start, end)])
@@ -166,7 +170,7 @@ def diagnostics_over(
         edges = edge_stats(recording.buffer, window)
         unavailable = recording.timeline.delays_unavailable
         yield at, statuses(held, edges, at, ignore=ignore, window=WINDOW, delays_unavailable=unavailable)
-        at += PERIOD
+        at += period
 
 
 def _log(log_pb2: Any, finding: Finding, at: int, recording: str) -> Any:

@@ -40,6 +40,9 @@ STATIC_TOPIC = "/tf_static"
 #: The callerid of the connection carrying the added transforms in a ROS1 bag: their authority.
 PUBLISHER = "/tfx_static"
 
+#: At most this many repeats of the statics between two messages of the recording (an hour's at 10 s).
+SILENCE_REPEATS = 360
+
 #: A repaired copy repeats its static transforms this often (s of record time), so that playing it
 #: from any point, splitting it or filtering it by time keeps them: as often as wtf's static_volatile
 #: asks of statics re-sent through a recording.
@@ -305,6 +308,10 @@ class _Copy:
         try:
             # Where its description did not say where it starts (a damaged .db3), its first message does.
             mark = self.start(time) if self.mark is None else self.mark
+            if self.plan.every and (time - mark) // self.plan.every > SILENCE_REPEATS:
+                # A silence of hours, or a record time decades from the rest (a clock reset, a damaged file): the
+                # repeats of its last stretch only; one every 10 s of it is a loop sized by a time read from the file.
+                mark = time - (time - mark) % self.plan.every - SILENCE_REPEATS * self.plan.every
             while self.plan.every and time >= mark + self.plan.every:
                 mark += self.plan.every
                 self._statics(mark)
@@ -321,7 +328,7 @@ class _Copy:
         sent as tf2 holds them, with their own stamps (restamped, a repeat reads as another publisher's message
         where the recording names none: the real Neatos' repaired copies told 4 publishers of 2)."""
         messages = self.held.at(stamp) if self.held is not None else self.plan.stamped(stamp)
-        first = stamp - len(messages) if ahead else stamp
+        first = max(stamp - len(messages), 0) if ahead else stamp  # no record time before 0 (ROS 1, MCAP)
         for k, (sender, transforms) in enumerate(messages):
             if sent := self.plan.repeated(transforms, first + k):
                 self.writer.write(self._connection(self._sent_by(sender)), first + k, self._encode(sent))

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import dataclasses
 import random
 import shutil
+import sqlite3
+from collections.abc import Callable
+from contextlib import closing
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from tests.corpus import variants
 from tests.corpus.fetch import shared_dir
 from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import batch_rows
@@ -56,3 +61,55 @@ def cut(path: Path, size: int) -> None:
 def rows(path: Path) -> tuple[list[tuple[Any, ...]], list[str]]:
     contents = read_contents([path], TOPICS)
     return batch_rows(contents.transforms), contents.problems
+
+
+def record_time_moved(path: Path, to: Callable[[int], int], topic: str = "/tf") -> int:
+    """The middle message on ``topic`` of a .bag, .mcap or .db3 file recorded at ``to(its record time)`` instead,
+    the file written again in place (a .db3 changed in its row); returns the time it was recorded at."""
+    if path.suffix == ".db3":
+        with closing(sqlite3.connect(path)) as db, db:
+            rows = db.execute(
+                "SELECT m.id, m.timestamp FROM messages m JOIN topics t ON m.topic_id = t.id WHERE t.name = ? "
+                "ORDER BY m.timestamp",
+                (topic,),
+            ).fetchall()
+            row, time = rows[len(rows) // 2]
+            db.execute("UPDATE messages SET timestamp = ? WHERE id = ?", (to(time), row))
+        return int(time)
+    if path.suffix == ".mcap":
+        return _mcap_record_time_moved(path, to, topic)
+    contents = variants.read(path)
+    on_topic = [i for i, (k, _, _) in enumerate(contents.messages) if contents.connections[k].topic == topic]
+    moved = list(contents.messages)
+    key, time, raw = moved[on_topic[len(on_topic) // 2]]
+    moved[on_topic[len(on_topic) // 2]] = (key, to(time), raw)
+    written = variants.write_ros1(path.with_name("moved.bag"), dataclasses.replace(contents, messages=moved))
+    written.replace(path)
+    return time
+
+
+def _mcap_record_time_moved(path: Path, to: Callable[[int], int], topic: str) -> int:
+    from mcap.reader import make_reader
+    from mcap.writer import Writer
+
+    with path.open("rb") as f:
+        reader = make_reader(f)
+        header, summary = reader.get_header(), reader.get_summary()
+        assert summary is not None
+        messages = [(c, m) for _, c, m in reader.iter_messages(log_time_order=False)]
+    on_topic = [i for i, (c, _) in enumerate(messages) if c.topic == topic]
+    middle = on_topic[len(on_topic) // 2]
+    time = messages[middle][1].log_time
+    with path.open("wb") as out:
+        writer = Writer(out)
+        writer.start(profile=header.profile, library=header.library)
+        schemas = {s.id: writer.register_schema(s.name, s.encoding, s.data) for s in summary.schemas.values()}
+        channels = {
+            c.id: writer.register_channel(c.topic, c.message_encoding, schemas.get(c.schema_id, 0), c.metadata)
+            for c in summary.channels.values()
+        }
+        for i, (channel, message) in enumerate(messages):
+            at = to(time) if i == middle else message.log_time
+            writer.add_message(channels[channel.id], at, message.data, message.publish_time, message.sequence)
+        writer.finish()
+    return int(time)

@@ -456,3 +456,56 @@ def test_a_real_db3_read_from_its_pages_lets_the_pages_read_go_as_it_goes(
     assert got and any("cut short" in p for p in problems)
     size = db3.stat().st_size
     assert len(released) >= size // (4 << 20) and set(released) == {(0, size)}
+
+
+def test_a_real_chunk_whose_message_index_lies_about_its_length_is_read_by_walking_it(tmp_path: Path) -> None:
+    """The Nav2 TurtleBot 4's .mcap, the byte length of one of its message indexes set to 2^31 - 1 (beyond the
+    file): its one chunk, intact, was lost ('no transforms could be read: 1 of 1 chunks could not be read (bad
+    message index)', exit 2 on every command); now its records are walked, every message read, the index said."""
+    bag = copied(NAV2_TB4, tmp_path)
+    whole, _ = rows(bag)
+    (chunk,) = _chunks(bag)
+    at = min(chunk.index_offsets.values())
+    with bag.open("r+b") as f:  # opcode (1), record length (8), channel id (2), then the entries' byte length
+        f.seek(at + 11)
+        f.write(struct.pack("<I", 0x7FFFFFFF))
+    got, problems = rows(bag)
+    assert got == whole
+    assert problems == [
+        "1 of 1 chunks is damaged (bad message index): all 8197 of its messages still parse and are read, but a "
+        "value among them may be wrong"
+    ]
+
+
+def test_a_real_db3_sqlite_gives_up_on_lets_go_of_what_sqlite_held_before_its_pages_are_read(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The TurtleBot3 lap's .db3 with 64 KiB of its pages zeroed at 45%: its page reader and sqlite both give up
+    part way, and its pages are then read. The read took 15.7 MiB beyond the imports (the intact file's 9.2): the
+    page reader's buffer and map and sqlite's page cache were still held while the pages were read. Both are let
+    go first now (14.0 MiB; the rest is the salvage's, which holds the messages found in one buffer)."""
+    from tests.sources.bag.damaged import zeroed_pages
+    from tftools.sources.bag.rosbag2 import db3 as db3_module
+    from tftools.sources.bag.rosbag2.database import Database
+
+    bag = copied("ros2_db3_tb3_real_lap_2025", tmp_path)
+    (db3,) = bag.glob("*.db3")
+    zeroed_pages(db3, 0.45)
+    said: list[str] = []
+    from tftools.sources.bag.rosbag2.db3_salvage import salvage as salvaged
+
+    asked = Database.rows
+
+    def rows_of(db: Database, query: str) -> list[tuple[object, ...]]:
+        said.append(query)
+        return asked(db, query)
+
+    def salvage(*args: Any, **kwargs: Any) -> Any:
+        said.append("salvage")
+        return salvaged(*args, **kwargs)
+
+    monkeypatch.setattr(Database, "rows", rows_of)
+    monkeypatch.setattr(db3_module, "salvage", salvage)
+    got, problems = rows(bag)
+    assert got and any("the database is damaged" in p for p in problems)
+    assert said[-2:] == ["PRAGMA shrink_memory", "salvage"]

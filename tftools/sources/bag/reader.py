@@ -19,6 +19,7 @@ from tftools.sources.bag.contents import (
 )
 from tftools.sources.bag.formats import sniff
 from tftools.sources.bag.scan import FileRead, placed_among, record_times
+from tftools.sources.bag.strays import leave_out_strays
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import DEFAULT_TOPICS, MessageSink, StampedRead, concat_sent
 from tftools.sources.errors import BagError
@@ -97,6 +98,8 @@ class BagReader:
             raise ValueError("BagReader.read outside its with block: the recording is not open")
         shares = in_turn(progress or _unreported, [opened.size for opened in self._files])
         reads = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
+        for read in reads if window is None else ():  # a window's read holds too few of a file's times to judge
+            leave_out_strays(read)
         if len(reads) > 1:
             _placed_among_files(reads)
         streams = merged([stream for read in reads for stream in read.stamped])

@@ -217,16 +217,16 @@ def _read_chunk(
         raise DamageError(f"no chunk at byte {chunk.offset}", chunk.offset)
     data, damage = chunk_records(memoryview(raw)[RECORD.size :], channels.budget)  # no copy of the chunk
     if not chunk.index_offsets:
-        walked, read = scan_records(data, number, channels, counted=False)
-        if damage or walked:
-            if not read:
-                raise DamageError(damage or walked)
-            salvaged.note(damage or walked, read, None)
-            channels.result.damaged.append((chunk.message_start, chunk.message_end))
+        _walked(data, number, channels, chunk, damage, salvaged)
         return
     if index is None:
         index = source.read(chunk.end, chunk.end + chunk.index_length)
-    every = indexed([(number, c, _message_index(index, at - chunk.end)) for c, at in chunk.index_offsets.items()])
+    try:
+        entries = [(number, c, _message_index(index, at - chunk.end)) for c, at in chunk.index_offsets.items()]
+    except DamageError as error:  # its index, not its messages: they are found by walking the chunk
+        _walked(data, number, channels, chunk, damage, salvaged, str(error))
+        return
+    every = indexed(entries)
     every = every.rows(np.argsort(every.offset, kind="stable"))  # handed on in file order, every channel's at once
     every.end = np.full(len(every), len(data), np.int64)
     fits = payloads(np.frombuffer(data, np.uint8), every.offset, every, np.ones(len(every), bool))
@@ -242,6 +242,28 @@ def _read_chunk(
         if read < len(fits):  # the stretch of the messages lost (a pause there is the file's)
             lost = every.time[~fits]
             channels.result.damaged.append((int(lost.min()), int(lost.max())))
+
+
+def _walked(
+    data: bytes | memoryview,
+    number: int,
+    channels: Channels,
+    chunk: ChunkIndex,
+    damage: str,
+    salvaged: Salvaged,
+    index_damage: str = "",
+) -> None:
+    """The wanted messages of a chunk without (readable) message indexes, found by walking its records; a
+    damaged chunk's, or one whose ``index_damage`` is said, noted in ``salvaged``."""
+    walked, read = scan_records(data, number, channels, counted=False)
+    if not (damage or walked or index_damage):
+        return
+    if not read:
+        raise DamageError(damage or walked or index_damage)
+    lost = damage or walked
+    salvaged.note(lost or index_damage, read, None if lost else 0)
+    if lost:
+        channels.result.damaged.append((chunk.message_start, chunk.message_end))
 
 
 def _message_index(index: bytes, at: int) -> bytes:

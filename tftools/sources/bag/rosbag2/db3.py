@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sqlite3
 from collections.abc import Iterator
-from contextlib import closing
+from contextlib import closing, suppress
 from pathlib import Path
 
 import numpy as np
@@ -218,12 +218,19 @@ def _messages(
                 _add(pages, lookup, result, size, progress)
                 return
             except PageError:  # read them again through sqlite, forgetting what the pages gave
+                pages = None  # and the page reader, its buffer and map
                 result.messages = result.messages.emptied()
                 result.messages.unpack = unpack
         _add(db.messages(query, _FETCH, _FETCH_BYTES, list(channels)), lookup, result, size, progress)
-    except sqlite3.Error as e:  # start again from the pages, forgetting what the query gave
-        result.messages = result.messages.emptied()
-        _add_salvaged(path, channels, headers, lookup, result, f"sqlite: {e}", size)
+        return
+    except sqlite3.Error as e:
+        damage = f"sqlite: {e}"
+    # Start again from the pages, forgetting what the query gave: out of the except block, whose error's
+    # traceback holds the query's last fetch while the pages are read; sqlite's page cache let go too.
+    result.messages = result.messages.emptied()
+    with suppress(sqlite3.Error):
+        db.rows("PRAGMA shrink_memory")
+    _add_salvaged(path, channels, headers, lookup, result, damage, size)
 
 
 def lookup_of(channels: dict[int, int]) -> Int32Array:
