@@ -21,6 +21,7 @@ from tftools.sources.bag import ProgressCallback
 from tftools.sources.bag.messages import a_core_aside
 from tftools.sources.bag.reader import BagReader
 from tftools.sources.bag.robot import RobotMessages, robot_messages
+from tftools.sources.codecs.gather import distinct
 from tftools.sources.codecs.select import carries_transforms
 from tftools.sources.contents import (
     BUFFER_FORMAT,
@@ -171,7 +172,7 @@ def recording_of(contents: RecordingContents, semantics: Semantics | None = None
         if len(buffer.rejections) > seen or len(buffer.duplicates) > seen_again:
             again = np.array(buffer.duplicates[seen_again:], np.int64)
             # unique: a sample refused for two reasons (NaN and denormalized) is one row
-            sequence = np.unique(np.concatenate([buffer.rejections.sequences(seen), again]))
+            sequence = distinct(np.concatenate([buffer.rejections.sequences(seen), again]))
             refused.append(take_rows(part, sequence - first))
             refused_sequence.append(sequence)
         freed += part.nbytes

@@ -22,6 +22,7 @@ from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
 from tftools.core.buffer import Buffer
 from tftools.core.history import FROM_STATIC_TOPIC, EdgeHistory
 from tftools.core.time import EPOCH_FLOOR, NS_PER_S, duration
+from tftools.sources.codecs import gather
 from tftools.sources.contents import ClockSamples
 from tftools.sources.edge_clocks import (
     EdgeClock,
@@ -639,7 +640,7 @@ class TickedGrid:
         """The record times of a part's /clock messages and of its edges' samples (``histories``)."""
         self.shared += shared_ticks(histories)
         times = np.concatenate([clock_records, *(h.record_times for h in histories)])
-        distinct = np.unique(times[times > 0])
+        distinct = gather.distinct(times[times > 0])
         if self._last is not None:
             distinct = np.concatenate(([self._last], distinct[distinct > self._last]))
         if len(distinct) > 1:
@@ -671,7 +672,7 @@ def record_grid(record_times: Int64Array) -> int:
     one of at least ``FINE_STEP``: a recorder under use_sim_time reads them off /clock, which it need not
     record (Stage's ticks every 100 ms: messages received within one tick share a record time, the next
     skips one); 0 for record times as fine as a wall clock's."""
-    distinct = np.unique(record_times[record_times > 0])
+    distinct = gather.distinct(record_times[record_times > 0])
     if len(distinct) < 2:
         return 0
     steps = np.diff(distinct)

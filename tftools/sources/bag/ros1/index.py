@@ -207,7 +207,7 @@ def _read_chunk(bag: BagFile, gathered: _Gathered, ordinal: int, info: ChunkInfo
 def lost_span(times: Int64Array, listed: Int64Array, read: Int64Array) -> tuple[int, int] | None:
     """The record times, first and last, of the messages an index lists (``times``, at ``listed``) that were not
     read (none at ``read``): where a damaged chunk lost them; None when every one was read."""
-    lost = times[~np.isin(listed, read)]
+    lost = times[~among(listed, read)]
     return (int(lost.min()), int(lost.max())) if len(lost) else None
 
 
