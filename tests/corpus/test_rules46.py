@@ -28,3 +28,26 @@ def test_jarvis_s_laser_localizer_map_under_odom_is_corrected_not_jumping(corpus
     assert "at most 0.309 m and 2.4°" in note["message"], note["message"]
     assert "publish it as map -> odom" not in note["hint"], note["hint"]
     assert code == 0
+
+
+JAXON = "ros1-jsk-jaxon-humanoid-hrpsys-multisense-two-publishers-of-the-force-sensors-2018-bag"
+
+
+def test_the_humanoid_s_four_force_sensors_from_two_nodes_are_one_cause(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """/hrpsys_state_publisher (50 Hz) and /HrpsysSeqStateROSBridge (100 Hz) both send LLEG_LINK5 -> lfsensor,
+    RLEG_LINK5 -> rfsensor (2.5 mm apart), LARM_LINK7 -> lhsensor and RARM_LINK7 -> rhsensor (equal): tfx said four
+    warnings, each hinting at robot_localization's publish_tf and cartographer's provide_odom_frame. One pair of
+    publishers: one warning with the other three beneath it, and a hint for a robot's links."""
+    code, findings = _findings(tfx, corpus(BY_ID[JAXON]))
+    authorities = [f for f in findings if f["code"] == "multiple_authorities"]
+    (cause,) = [f for f in authorities if not f["cause"]]
+    assert sorted(tuple(f["frames"]) for f in authorities) == [
+        ("LARM_LINK7", "lhsensor"),
+        ("LLEG_LINK5", "lfsensor"),
+        ("RARM_LINK7", "rhsensor"),
+        ("RLEG_LINK5", "rfsensor"),
+    ]
+    assert all(f["cause"] == cause["key"] for f in authorities if f is not cause), authorities
+    assert cause["severity"] == "warning" and "two state publishers of one robot's links" in cause["hint"]
+    assert "robot_localization" not in cause["hint"] and "cartographer" not in cause["hint"], cause["hint"]
+    assert code == 0
