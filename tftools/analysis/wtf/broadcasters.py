@@ -414,7 +414,7 @@ def _shaped(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Split]])
         still = all(bool(np.ptp(rows.values[split.rows[side]], axis=0).max() == 0.0) for _, _, split in edges)
         kinds.append(
             f"{len(mine)} messages of {transforms(len(held))} "
-            f"({'with ' + and_joined(others) if others else 'nothing else'}), every {_ms(period(np.diff(stamps)))}"
+            f"({_with(others)}), every {_ms(period(np.diff(stamps)))}"
             f"{', their values always the same' if still else ''}"
         )
     every = np.sort(np.concatenate([mine for _, mine, _ in edges]))
@@ -462,6 +462,13 @@ def _shaped(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Split]])
     if listed_count is not None:
         figures["publishers_listed"] = listed_count
     return dataclasses.replace(finding, figures=figures)
+
+
+def _with(others: list[str]) -> str:
+    """ "with a -> b and c -> d", "with a -> b, ... and 3 more", "nothing else": the other edges of a message."""
+    if not others:
+        return "nothing else"
+    return "with " + (and_joined(others) if len(others) <= LISTED else listed(others, LISTED))
 
 
 def _each(counts: list[int], thing: str) -> str:
