@@ -388,6 +388,8 @@ def _in_two_layouts(scene: Scene, layouts: Layouts, mine: IntpArray) -> Split | 
     _, at_a, at_b = np.intersect1d(a_stamps, b_stamps, assume_unique=False, return_indices=True)
     metres, degrees = apart(a_values[at_a], b_values[at_b])
     other = (metres >= NIL_M) | (degrees >= NIL_DEG)
+    if not other.any():  # one stamp sent in both kinds with other values: what one publisher never does
+        return None
     both_apart = (float(metres.max(initial=0.0)), float(degrees.max(initial=0.0)))
     return Split(pair, (each[0], each[1]), turns, compared, int(np.count_nonzero(other)), both_apart)
 
