@@ -1,5 +1,7 @@
 """What corpus33's recordings showed, fixed on the recording that showed it; the designed reproduction is beside
-the code's own tests (tests/analysis/test_wtf_hazards.py)."""
+the code's own tests (tests/analysis/test_wtf_hazards.py). The Jarvis AGV's map under odom, whose jump hint corpus33
+turned to "publish it as map -> odom", is rules46's now: the recording sends map -> odom already, and the steps are
+its localizer's corrections (tests/corpus/test_rules46.py)."""
 
 from __future__ import annotations
 
@@ -7,22 +9,6 @@ import json
 
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.recordings import BY_ID, Corpus
-
-JARVIS = "ros1-jarvis-tricycle-agv-real-nav350-reflector-localisation-map-odom-no-callerid-2014-bag"
-
-
-def test_a_localizers_map_under_odom_is_no_odometry_told_to_stay_continuous(
-    corpus: Corpus,
-    tfx: Tfx,  # noqa: F811
-) -> None:
-    """The Jarvis AGV's NAV350 localizer hangs map_contours_nav under odom, re-sent at 208 Hz and stepping with each
-    correction (0.31 m once): the jump's hint said REP 105 wants odom -> base continuous, of a frame that is no
-    base; it now says a correction belongs on map -> odom."""
-    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[JARVIS]), "--format", "json").stdout)["bags"]
-    (finding,) = [f for f in bag["findings"] if f["code"] == "jump"]
-    assert finding["frames"][:2] == ["odom", "map_contours_nav"], finding
-    assert "publish it as map -> odom" in finding["hint"] and "odom -> base" not in finding["hint"], finding["hint"]
-
 
 GUARDIAN_DECEMBER = "ros1-robotnik-guardian-real-tilting-laser-pallet-robot-clock-7.6-s-ahead-no-callerid-2014-bag"
 GUARDIAN_SEPTEMBER = "ros1-robotnik-guardian-real-lab-run-empty-tf-messages-rsp-post-dated-no-callerid-2014-bag"

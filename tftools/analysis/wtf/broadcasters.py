@@ -1,7 +1,7 @@
 """Several broadcasters of one moving edge where the recording does not name publishers (ROS 2 bags,
-MCAP), told from what the edge's stream holds: its stamps, values, when each sample arrived, and how many
-publishers of its topic metadata.yaml (or a bare file's topics table or channels) lists. Four patterns are told
-apart:
+MCAP), told from what the edge's stream holds: its stamps, values, when each sample arrived, which transforms
+came with it in one message (``layouts``), and how many publishers of its topic metadata.yaml (or a bare file's
+topics table or channels) lists. Five patterns are told apart:
 
 - a stamp sent again with the same value, the newest stamp each time, as long after the sample before it
   as new samples come: one publisher re-sending its last value (a timer whose input did not change: a
@@ -9,6 +9,9 @@ apart:
   (slam_toolbox's first correction of a scan), ``time_backwards``' to report;
 - most stamps sent again, each soon after the first (well within the stream's interval): two identical
   publishers (two robot_state_publishers), or two that disagree where the values differ;
+- samples in two kinds of message (two sets of transforms) taking turns, whose values contradict each other:
+  two publishers, each sending its own set (a TurtleBot 4 simulator's wheels, in messages of 2 transforms with
+  the joints' angles and of 4 always at 0), or one robot_state_publisher fed /joint_states by two sources;
 - among the samples not sent before, stamps going back and forth or values alternating between two
   places, sample after sample (rotations alternating only where they can be followed as two tracks):
   publishers taking turns;
@@ -29,7 +32,8 @@ from typing import NamedTuple
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed
+from tftools.analysis.wtf.layouts import Layouts, message_layouts
+from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
 from tftools.core.figures import (
     Disagreement,
@@ -284,6 +288,8 @@ def _infer(scene: Scene) -> list[Finding]:
     rows = scene.rows
     found = []
     twins: dict[tuple[str, ...], list[tuple[tuple[str, str], IntpArray, Repeats]]] = {}
+    shaped: dict[tuple[int, int], list[tuple[tuple[str, str], IntpArray, Split]]] = {}
+    layouts = message_layouts(scene)
     for parent, child, mine in rows.by_edge(rows.usable & ~rows.static):
         frames = (parent, child)
         repeats = repeats_of(rows.stamp[mine], rows.values[mine], scene.received(mine))
@@ -294,6 +300,10 @@ def _infer(scene: Scene) -> list[Finding]:
             if not repeats.resent and repeats.stamps_again >= TWINS_SHARE * repeats.stamps and repeats.alike:
                 twins.setdefault(scene.authorities_of(mine), []).append((frames, mine, repeats))
                 continue
+        split = _in_two_layouts(scene, layouts, mine)
+        if split is not None:
+            shaped.setdefault(split.layouts, []).append((frames, mine, split))
+            continue
         new = mine[~repeats.again]  # a publisher re-sending an old stamp is one publisher, not a turn
         clocks = _two_clocks(scene, new)
         if clocks is not None:  # each clock's stamps rise on their own: turns between clocks, no stamp going back
@@ -333,7 +343,147 @@ def _infer(scene: Scene) -> list[Finding]:
         figures |= {"stamps_back": back, "values_alternating": alternating}
         figures |= apart_.figures() if apart_ is not None else {}
         found.append(dataclasses.replace(finding, figures=figures))
-    return found + [_twins(scene, edges) for edges in twins.values()]
+    return found + [_twins(scene, edges) for edges in twins.values()] + [_shaped(scene, e) for e in shaped.values()]
+
+
+@dataclass(frozen=True)
+class Split:
+    """One edge's samples in two message layouts (``layouts``) that take turns, and how far apart the two are."""
+
+    layouts: tuple[int, int]  # the two layouts (``Layouts.layout``), the smaller number first
+    rows: tuple[IntpArray, IntpArray]  # the edge's rows in each, in arrival order
+    turns: int  # samples (of those two layouts, in arrival order) in another layout than the one before
+    compared: AtOnce
+    both: int  # stamps sent in both layouts with other values
+    both_apart: tuple[float, float]  # how far apart at those stamps, at most (m, degrees)
+
+
+def _in_two_layouts(scene: Scene, layouts: Layouts, mine: IntpArray) -> Split | None:
+    """The edge's samples (``mine``, in arrival order) in the two layouts it came in most, where each holds
+    ``TURNS_MIN`` of them and ``TURNS_SHARE`` at least, they take turns sample after sample, and their values
+    contradict each other at ``TURNS_SHARE`` of the times compared (``at_once``): a sender of one layout does not
+    send the other's values. None otherwise: one layout, or one sender whose messages vary (a tracker sending the
+    objects in view) and whose values agree."""
+    of = layouts.layout[mine]
+    known = of >= 0
+    ids, counts = np.unique(of[known], return_counts=True)
+    large = ids[np.argsort(-counts, kind="stable")[:2]]
+    if len(large) < 2 or any(not _enough(int(c), len(mine)) for c in np.sort(counts)[-2:]):
+        return None
+    pair = (int(min(large)), int(max(large)))
+    inside = np.isin(of, pair)
+    turns = int(np.count_nonzero(np.diff(of[inside])))
+    if not _enough(turns, int(np.count_nonzero(inside))):
+        return None
+    rows = scene.rows
+    each = tuple(mine[of == k] for k in pair)
+    streams = []
+    for part in each:
+        ordered = part[np.argsort(rows.stamp[part], kind="stable")]
+        streams.append((rows.stamp[ordered], rows.values[ordered]))
+    compared = at_once(streams)
+    if compared is None or not _enough(compared.contradicting, compared.apart.instants):
+        return None
+    (a_stamps, a_values), (b_stamps, b_values) = streams
+    _, at_a, at_b = np.intersect1d(a_stamps, b_stamps, assume_unique=False, return_indices=True)
+    metres, degrees = apart(a_values[at_a], b_values[at_b])
+    other = (metres >= NIL_M) | (degrees >= NIL_DEG)
+    if not other.any():  # one stamp sent in both kinds with other values: what one publisher never does
+        return None
+    both_apart = (float(metres.max(initial=0.0)), float(degrees.max(initial=0.0)))
+    return Split(pair, (each[0], each[1]), turns, compared, int(np.count_nonzero(other)), both_apart)
+
+
+def _shaped(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Split]]) -> Finding:
+    """Edges that come in two message layouts taking turns, whose values contradict each other: two senders, each
+    sending its own set of transforms (or one robot_state_publisher fed /joint_states by two sources)."""
+    rows = scene.rows
+    layouts = message_layouts(scene)
+    largest = max((split.compared for _, _, split in edges), key=lambda c: (c.apart.metres, c.apart.degrees))
+    apart_ = dataclasses.replace(largest.apart, instants=sum(s.compared.apart.instants for _, _, s in edges))
+    compared = dataclasses.replace(
+        largest, apart=apart_, contradicting=sum(s.compared.contradicting for _, _, s in edges)
+    )
+    _, _, first = edges[0]
+    named = [edge(*frames) for frames, _, _ in edges]
+    kinds = []
+    sides = sorted((0, 1), key=lambda side: int(first.rows[side][0]))  # in order of first arrival
+    for side in sides:
+        held = layouts.edges(scene, first.layouts[side])
+        others = [e for e in held if e not in named]
+        mine = first.rows[side]
+        stamps = np.sort(rows.stamp[mine])
+        still = all(bool(np.ptp(rows.values[split.rows[side]], axis=0).max() == 0.0) for _, _, split in edges)
+        kinds.append(
+            f"{len(mine)} messages of {transforms(len(held))} "
+            f"({_with(others)}), every {_ms(period(np.diff(stamps)))}"
+            f"{', their values always the same' if still else ''}"
+        )
+    every = np.sort(np.concatenate([mine for _, mine, _ in edges]))
+    authorities = scene.authorities_of(every)
+    metadata, listed_count = _listed_said(scene, authorities)
+    both = _each([split.both for _, _, split in edges], "stamp")
+    both_m = max(split.both_apart[0] for _, _, split in edges)
+    both_deg = max(split.both_apart[1] for _, _, split in edges)
+    again = (
+        f"; {both} came in both, with other values (up to {_far_as(both_m, both_deg)} apart)"
+        if any(split.both for _, _, split in edges)
+        else ""
+    )
+    turns = sum(split.turns for _, _, split in edges)
+    samples = sum(len(split.rows[0]) + len(split.rows[1]) for _, _, split in edges)
+    each = {(s.turns, len(s.rows[0]) + len(s.rows[1])) for _, _, s in edges}
+    if len(edges) > 1 and len(each) == 1:
+        taking = "{} turns in {} samples, each".format(*each.pop())
+    else:
+        taking = f"{turns} turns in {samples} samples"
+    names = and_joined(named) if len(named) <= LISTED else listed(named, LISTED)
+    finding = scene.finding(
+        compared.severity,
+        "multiple_authorities",
+        f"{names}{scene.by(authorities)} {'come' if len(edges) > 1 else 'comes'} in two kinds of message taking turns "
+        f"({taking}): {kinds[0]}, and {kinds[1]}{again}; {compared.said(scene)}"
+        f"{metadata}: two publishers, it seems, each sending its own set of transforms (or one "
+        f"robot_state_publisher fed /joint_states by two sources); this recording does not name publishers"
+        f"{compared.follows()}",
+        f"tf2 takes every sample as it comes, so lookups mix the two: find them ({scene.list_publishers('/tf')}; "
+        f"where robot_state_publisher sends both, {scene.list_publishers('/joint_states')}) and stop the one that "
+        "should not send these transforms",
+        tuple(f for frames, _, _ in edges for f in frames),
+        every,
+        scene.arrival(every),
+    )
+    figures: dict[str, float | int | str] = {"edges": len(edges), "samples": samples, "layouts": 2, "turns": turns}
+    figures |= {"messages_first_kind": len(first.rows[sides[0]]), "messages_second_kind": len(first.rows[sides[1]])}
+    figures |= {
+        "stamps_in_both_with_other_values": sum(split.both for _, _, split in edges),
+        "both_apart_m_max": both_m,
+        "both_apart_deg_max": both_deg,
+    }
+    figures |= compared.figures()
+    if listed_count is not None:
+        figures["publishers_listed"] = listed_count
+    return dataclasses.replace(finding, figures=figures)
+
+
+def _with(others: list[str]) -> str:
+    """ "with a -> b and c -> d", "with a -> b, ... and 3 more", "nothing else": the other edges of a message."""
+    if not others:
+        return "nothing else"
+    return "with " + (and_joined(others) if len(others) <= LISTED else listed(others, LISTED))
+
+
+def _each(counts: list[int], thing: str) -> str:
+    """ "15 stamps of each" where every edge counts the same, else their sum: "31 stamps"."""
+    if len(counts) > 1 and len(set(counts)) == 1:
+        return f"{counted(counts[0], thing)} of each"
+    return counted(sum(counts), thing)
+
+
+def _far_as(metres: float, degrees: float) -> str:
+    """ "84.27°", "12.3 mm and 1.20°": what was seen apart, nothing said where it is nil."""
+    said = [f"{metres * 1000:.1f} mm" if metres >= NIL_M else "", f"{degrees:.2f}°" if degrees >= NIL_DEG else ""]
+    return " and ".join(s for s in said if s) or "nothing"
 
 
 @dataclass(frozen=True)

@@ -185,6 +185,17 @@ def _publisher_or_change(finding: Finding) -> tuple[Hashable, ...]:
     return (*_one_publisher(finding), *_change(finding))
 
 
+def _same_nodes_at_once(first: Finding, finding: Finding) -> bool:
+    """Edges that the same named nodes both send at once (``figures["at_once"]``): one pair of publishers."""
+    both = first.figures.get("at_once") == finding.figures.get("at_once") == 1
+    return both and bool(_publisher(first)) and _nodes(first) == _nodes(finding) and first.frames != finding.frames
+
+
+def _nodes(finding: Finding) -> tuple[tuple[str, ...]]:
+    """``_same_nodes_at_once``' key: the named publishers, in name order."""
+    return (tuple(sorted(_publisher(finding))),)
+
+
 def _same_change_elsewhere(first: Finding, finding: Finding) -> bool:
     """``_same_change`` on another edge by the same publisher (or, unnamed, the same topic): one edge's two kinds of
     the same finding stay apart, and so do two nodes'."""
@@ -268,6 +279,14 @@ RULES = (
         "edges stamped on the older of two clocks that take turns on one edge (a recording replayed with its own "
         "/tf beside live nodes): their clock, and their stop where the replay ended, follow from the replay, "
         "said once",
+    ),
+    Rule(
+        frozenset({"multiple_authorities"}),
+        frozenset({"multiple_authorities"}),
+        _same_nodes_at_once,
+        "edges that the same nodes both send at once (a humanoid's four force sensors from two state publishers): "
+        "one pair of publishers, said once with its edges beneath",
+        keys=_nodes,
     ),
     Rule(
         frozenset({"dynamic_on_static"}),

@@ -17,7 +17,7 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
-from tftools.core.figures import apart, seconds_in_words
+from tftools.core.figures import apart, held_apart, seconds_in_words
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -304,23 +304,51 @@ def _nan_median(rows: FloatArray) -> FloatArray:
     return np.where(counts > 0, low / 2 + high / 2, 0.0)
 
 
-def _edge_jumps(scene: Scene, into_odom: bool) -> Iterator[tuple[EdgeSamples, Jumps, Int64Array]]:
-    """Each moving edge of one publisher, into odom or not (``into_odom``), with its unexplained steps
-    and the stamps they end at. Where several named publishers take turns, each one's own samples: their values
-    alternate (``multiple_authorities`` says so), but an EKF's GPS steps beside a camera's odometry are the
-    EKF's jumps all the same. Not where the publishers are only inferred (one topic, no names to part them)."""
+def _edge_jumps(scene: Scene, corrections: bool) -> Iterator[tuple[EdgeSamples, Jumps, Int64Array]]:
+    """Each moving edge of one publisher, a localizer's corrections (into odom, or a map of its own under odom:
+    ``map_under_odom``) or not (``corrections``), with its unexplained steps and the stamps they end at. Where
+    several named publishers take turns, each one's own samples: their values alternate
+    (``multiple_authorities`` says so), but an EKF's GPS steps beside a camera's odometry are the EKF's jumps
+    all the same. Not where the publishers are only inferred (one topic, no names to part them)."""
     contested = inferred_edges(scene)
     checked = [
         own
         for samples in scene.dynamic_edges
-        if samples.key not in contested and (base_name(samples.child) == ODOM) is into_odom
+        if samples.key not in contested
+        and (base_name(samples.child) == ODOM or map_under_odom(scene, samples) is not None) is corrections
         for own in ((samples,) if len(samples.authorities) == 1 else _each_publishers(scene, samples))
     ]
     # map -> odom moves by its corrections alone: its usual speed is a correction's, and each one is counted
-    found_in = edges_jumps([(s.stamps, s.values) for s in checked], usual=not into_odom)
+    found_in = edges_jumps([(s.stamps, s.values) for s in checked], usual=not corrections)
     for samples, found in zip(checked, found_in, strict=True):
         if len(found):
             yield samples, found, samples.stamps[found.at]
+
+
+#: An edge that changes at most this share of its samples holds its value between steps: a localizer's output
+#: re-sent between its updates (a real AGV's laser localizer: 101 values in 5,305 samples at 208 Hz).
+HELD_SHARE = 0.5
+
+
+def map_under_odom(scene: Scene, samples: EdgeSamples) -> str | None:
+    """What shows ``samples``' edge to be a localizer's map of its own hung under odom, whose steps are its
+    corrections (as map -> odom's are): a leaf under odom, not a base, holding its value between steps, where odom
+    has its parent already (it can have one: the localizer hangs its map below it instead, a real AGV's laser
+    localizer's ``map_contours_nav`` beside map -> odom); None where it is not one."""
+    if base_name(samples.parent) != ODOM or base_name(samples.child) in BASES or len(samples.values) < 2:
+        return None
+    above = scene.tree.ancestors(samples.parent)
+    if not above or scene.tree.children.get(samples.child):
+        return None
+    moved, turned = held_apart(samples.values[1:], samples.values[:-1])
+    changes = int(np.count_nonzero(moved | turned))
+    if changes > HELD_SHARE * (len(samples.values) - 1):
+        return None
+    return (
+        f"it holds its value between steps (it changed value {changes:,} times in {len(samples.values):,} samples) "
+        f"and no frame hangs under it, while {samples.parent} has its parent already ({above[0]} -> "
+        f"{samples.parent}): a localizer's own map under {samples.parent}, it seems"
+    )
 
 
 def _each_publishers(scene: Scene, samples: EdgeSamples) -> Iterator[EdgeSamples]:
@@ -355,7 +383,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
     too: every lookup through a jump works (an error breaks lookups), and a step is a correction (GPS fused
     into odom) as often as a reset; REP 105's advice says what it does to what is planned in odom."""
     joints = scene.shared("joints", lambda: _joints(scene)) - set(scene.detections)  # a marker turning in view
-    for samples, found, when in _edge_jumps(scene, into_odom=False):
+    for samples, found, when in _edge_jumps(scene, corrections=False):
         if samples.key in joints:
             found, when = _back_and_forth(samples.values, found, when)
             if not len(found):
@@ -373,8 +401,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
             if samples.key in joints
             else DETECTION_JUMP
             if samples.key in scene.detections
-            else "a localization correction or a reset published as this edge's motion: if it is a correction, "
-            "publish it as map -> odom (REP 105), so that odom stays continuous"
+            else _correction_hint(scene, samples)
         )
         detected = scene.detections.get(samples.key)
         what = f", a detection ({detected[0]})," if detected is not None else ""
@@ -394,6 +421,22 @@ def jump(scene: Scene) -> Iterator[Finding]:
             why,
             when,
         )
+
+
+def _correction_hint(scene: Scene, samples: EdgeSamples) -> str:
+    """``jump``'s hint for an edge that is neither the robot's base, a joint nor a detection: publish a correction
+    as map -> odom (REP 105), or where odom has its parent already and the edge hangs under it, under that parent."""
+    above = scene.tree.ancestors(samples.parent) if base_name(samples.parent) == ODOM else []
+    if not above:
+        return (
+            "a localization correction or a reset published as this edge's motion: if it is a correction, publish "
+            "it as map -> odom (REP 105), so that odom stays continuous"
+        )
+    return (
+        f"a localization correction or a reset published as this edge's motion: {above[0]} -> {samples.parent} is "
+        f"sent already, so if it corrects where {samples.child} lies, send {samples.child} under {above[0]}, where "
+        "it stays put, or say why it moves in odom"
+    )
 
 
 def _carries_robot(scene: Scene, frame: str) -> bool:
@@ -519,18 +562,30 @@ def _turning_in_place(scene: Scene) -> set[tuple[str, str]]:
     }
 
 
-@register("map_corrections", Severity.info, "map -> odom's corrections (REP 105 lets it step): how many, how far")
+@register(
+    "map_corrections",
+    Severity.info,
+    "map -> odom's corrections, or a localizer's own map's under odom (REP 105 lets them step): how many, how far",
+)
 def map_corrections(scene: Scene) -> Iterator[Finding]:
-    for samples, found, when in _edge_jumps(scene, into_odom=True):
+    """map -> odom's steps, and those of a localizer's own map hung under odom (``map_under_odom``)."""
+    for samples, found, when in _edge_jumps(scene, corrections=True):
         seconds = (int(samples.stamps[-1]) - int(samples.stamps[0])) / NS_PER_S
+        own = map_under_odom(scene, samples)
         yield samples.finding(
             Severity.info,
             "map_corrections",
-            f"{edge(*samples.key)}{scene.by(samples.authorities)} was corrected "
+            f"{edge(*samples.key)}{scene.by(samples.authorities)}{': ' + own + '; it' if own else ''} was corrected "
             f"{_times(len(found))} in {seconds:.1f} s: typically {np.median(found.metres):.3f} m and "
             f"{np.median(found.degrees):.1f}°, at most {_largest(found)} at "
             f"{scene.at(int(when[found.largest]), samples.recorded_at(int(when[found.largest])))}",
-            "REP 105 lets localization step map -> odom; large or frequent corrections are worth a look at the "
+            (
+                f"nothing to fix: REP 105 lets a localizer's map step, as map -> odom does; data in {samples.child} "
+                "steps with it; large or frequent corrections are worth a look at that localizer (its map, its "
+                "sensor data)"
+            )
+            if own
+            else "REP 105 lets localization step map -> odom; large or frequent corrections are worth a look at the "
             "localizer (its map, its sensor data)",
             when,
         )

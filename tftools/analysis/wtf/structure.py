@@ -514,13 +514,13 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
             figures = apart.figures()
         hint = (
             "tf2 takes every sample as it comes, so lookups mix both publishers' values: turn the transform off "
-            "in all but one (robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter, "
-            "cartographer's provide_odom_frame)"
+            f"in all but one ({_turned_off_by(parent, child)})"
         )
         robots = robots_of(who) if scene.publishers_known else None
         if robots is not None:  # two drones' MAVROS: each robot's frame, not a second publisher of one
             message = f"{message} ({robots_said(robots)})"
             hint = prefix_hint(robots, (parent, child), scene.ros2)
+        figures["at_once"] = 1
     else:
         severity = Severity.info
         message = f"{edge(parent, child)} was handed over between {source}, one after the other: {parts}"
@@ -531,6 +531,22 @@ def _authorities_finding(scene: Scene, parent: str, child: str, mine: np.ndarray
         )
     found = scene.finding(severity, "multiple_authorities", message, hint, (parent, child), mine, scene.arrival(mine))
     return dataclasses.replace(found, figures=figures) if figures else found
+
+
+#: Frames of localization and odometry (REP 105's, by their name without a namespace prefix), whose publishers
+#: are turned off by a parameter of their own; a robot's links come from a state publisher.
+_LOCALIZED = frozenset({"map", "odom", "base_link", "base_footprint"})
+
+
+def _turned_off_by(parent: str, child: str) -> str:
+    """How a second publisher of ``parent -> child`` is usually turned off: an odometry or localization node's
+    parameter, or, for a robot's links (a humanoid's force sensors from two state publishers), one description."""
+    if {base_name(parent), base_name(child)} & _LOCALIZED:
+        return (
+            "robot_localization's publish_tf, a driver's publish_tf or enable_odom_tf parameter, cartographer's "
+            "provide_odom_frame"
+        )
+    return "two state publishers of one robot's links: keep the joint in one's description only, or run one of them"
 
 
 def _at_once(scene: Scene, mine: IntpArray) -> AtOnce | None:
