@@ -98,8 +98,9 @@ def test_diff_says_a_difference_the_damage_made_in_its_output(
 ) -> None:
     """The Nav2 TurtleBot 4 in lz4 chunks against its copy with 16 bytes overwritten at 45% (read through its
     summary, or cut before it and read record by record): each edge's rate is 22% lower in the copy, the 20.8 s
-    its damaged chunk lost counted as silence. Before, only stderr said the copy was damaged, and the rate
-    differences read as the robot's; now each says so, in the text and in JSON (``damage``, ``b_damaged``)."""
+    its damaged chunk lost counted as silence (3 differences: the two wheels, sent in one message, said as one).
+    Before, only stderr said the copy was damaged, and the rate differences read as the robot's; now each says so,
+    in the text and in JSON (``damage``, ``b_damaged``)."""
     from mcap.writer import CompressionType
 
     from tests.corpus.variants import rewrite_mcap
@@ -115,12 +116,13 @@ def test_diff_says_a_difference_the_damage_made_in_its_output(
     found = _json(tfx, "diff", intact, damaged)
     assert found["a_damaged"] is None and "is damaged (lz4 chunk cannot be decompressed whole" in found["b_damaged"]
     rates = [d for d in found["differences"] if d["change"] == "rate"]
-    assert len(rates) == 4 and len(found["differences"]) == 4
+    assert len(rates) == 3 and len(found["differences"]) == 3  # the two wheels, sent in one message, said once
+    assert [d["said_with"] for d in rates if d["said_with"]] == [["right_wheel"]]
     lost = re.compile(r"^B is damaged: its transforms from 48\.\d s to 69\.\d s into it were lost; the transforms lost")
     assert all(lost.match(d["damage"]) for d in rates), rates
     text = tfx("diff", intact, damaged).stdout
     assert (
-        text.count("(B is damaged: its transforms from 48.") == 4
+        text.count("(B is damaged: its transforms from 48.") == 3
         and "read only in part, compared as far as it could be read: " in text
     )
     swapped = _json(tfx, "diff", damaged, intact)

@@ -3,6 +3,7 @@ origin: plausible, or unavailable with the reason. Real recordings where the cor
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
@@ -428,9 +429,12 @@ def test_a_recording_made_on_sim_time_has_record_times_as_coarse_as_its_clock(tm
     recording = read_recording([write_bag(tmp_path / "on_sim", tf, BagFormat.rosbag2_sqlite3, clock)])
     assert recording.timeline.record_step == S // 10 and recording.timeline.resolution == S // 10
     assert "ticks every 0.100 s" in recording.timeline.delays_unavailable
-    wall = [ClockMessage(WALL + k * S // 100 + 3 * MS, WALL + k * S // 100) for k in range(100)]  # /clock on wall time
-    recorded = read_recording([write_bag(tmp_path / "on_wall", tf, BagFormat.rosbag2_sqlite3, wall)])
-    assert recorded.timeline.record_step == 0
+    # /clock on wall time, recorded 3 ms after each value by a recorder on the wall clock (its record times all on
+    # that clock: 50 years from the rest, one message's would be left out as damaged): not a grid to read them off
+    wall = [ClockMessage(WALL + k * S // 100 + 3 * MS, WALL + k * S // 100) for k in range(100)]
+    on_wall = [dataclasses.replace(m, record_time=m.record_time - 100 * S + WALL) for m in tf]
+    recorded = read_recording([write_bag(tmp_path / "on_wall", on_wall, BagFormat.rosbag2_sqlite3, wall)])
+    assert recorded.timeline.record_step == 0 and not recorded.contents.problems
 
 
 def stage_on_sim_time(tick: int) -> list[TfMessage]:
