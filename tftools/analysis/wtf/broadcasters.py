@@ -437,7 +437,7 @@ def _shaped(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Split]])
         taking = "{} turns in {} samples, each".format(*each.pop())
     else:
         taking = f"{turns} turns in {samples} samples"
-    names = and_joined(named) if len(named) <= LISTED else listed(named, LISTED)
+    names = and_joined(named, LISTED)
     finding = scene.finding(
         compared.severity,
         "multiple_authorities",
@@ -642,7 +642,7 @@ def _twins(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Repeats]]
         conclusion = f"{several} identical publishers, it seems ({several} robot_state_publishers, or one launched "
         conclusion += f"{times})"
     named = [edge(*frames) for frames, _, _ in edges]
-    names = and_joined(named) if len(named) <= LISTED else listed(named, LISTED)
+    names = and_joined(named, LISTED)
     finding = scene.finding(
         compared.severity,
         "multiple_authorities",

@@ -285,8 +285,10 @@ def edge(parent: str, child: str) -> str:
     return f"{parent} -> {child}"
 
 
-def and_joined(items: Sequence[str]) -> str:
-    """ "a", "a and b", "a, b and c"."""
+def and_joined(items: Sequence[str], most: int | None = None) -> str:
+    """ "a", "a and b", "a, b and c"; past ``most`` items, ``listed``'s "a, b, c and N more"."""
+    if most is not None and len(items) > most:
+        return listed(items, most)
     return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
 
 
