@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.robots import robots_of
-from tftools.analysis.wtf.timing import CLOCK_BEHIND_S
+from tftools.analysis.wtf.timing import SAME_CLOCK_S
 
 
 def _on_its_frames(cause: Finding, finding: Finding) -> bool:
@@ -40,10 +40,6 @@ def _shares_a_frame(first: Finding, finding: Finding) -> bool:
     return bool(set(first.frames) & set(finding.frames))
 
 
-#: Edges whose stamps are ahead of their arrival by typical amounts this close (s) are ahead by one clock.
-SAME_CLOCK_S = 0.1
-
-
 #: ROS 1's robot_state_publisher stamps the fixed joints it sends on /tf this far (s) ahead of its clock
 #: (``publishFixedTransforms``: now + 0.5 s), so they are that much further ahead than its machine's other edges.
 RSP_POST_DATED_S = 0.5
@@ -64,11 +60,14 @@ def _one_clock_ahead(first: Finding, finding: Finding) -> bool:
 
 
 def _one_clock_behind(first: Finding, finding: Finding) -> bool:
-    """Edges that never arrived sooner than the same time after their stamps, over the same time: one clock behind
-    the recorder's (two real drones' and their MAVROS' edges, none sooner than 2.3 s: the recorder's clock ahead of
-    theirs), not one slow publisher per edge."""
+    """Edges that never arrived sooner than the same time after their stamps, over the same time, where ``delay``
+    found a clock's offset (its ``clock_behind``: none sooner than a second, or every sample about as late as another
+    edge's): one clock behind the recorder's (two real drones' and their MAVROS' edges, none sooner than 2.3 s; five
+    days later 0.39-0.40 s), not one slow publisher per edge."""
     a, b = first.figures.get("late_s_min"), finding.figures.get("late_s_min")
-    if not isinstance(a, float) or not isinstance(b, float) or min(a, b) <= CLOCK_BEHIND_S:
+    if not isinstance(a, float) or not isinstance(b, float):
+        return False
+    if first.figures.get("clock_behind") != 1.0 or finding.figures.get("clock_behind") != 1.0:
         return False
     overlap = finding.first_time <= first.last_time and first.first_time <= finding.last_time
     return overlap and abs(a - b) <= SAME_CLOCK_S

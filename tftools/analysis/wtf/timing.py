@@ -225,10 +225,56 @@ def _senders(scene: Scene, e: EdgeSamples, stamps: Int64Array, early: BoolArray)
 #: slow node (roswtf's 1 s for out-of-date transforms); a node stamping with its input's time is late by less.
 CLOCK_BEHIND_S = 1.0
 
+#: Edges whose stamps are ahead of (or behind) their arrival by typical amounts this close (s) are off by one clock;
+#: an edge each of whose samples is late by at most this more than its earliest is late by one steady amount.
+SAME_CLOCK_S = 0.1
+
+
+@dataclasses.dataclass(frozen=True)
+class _Late:
+    """An edge ``delay`` reports: its samples' stamps, arrivals, delays and which are late."""
+
+    edge: EdgeSamples
+    stamps: Int64Array
+    records: Int64Array
+    delays: Int64Array
+    late: BoolArray
+
+    @property
+    def floor(self) -> int:
+        return int(self.delays.min())
+
+    def steady(self, limit: int) -> bool:
+        """Every sample late, each by about the same amount (``SAME_CLOCK_S`` of the earliest, at the median)."""
+        return self.floor > limit and float(np.median(self.delays)) - self.floor <= from_sec(SAME_CLOCK_S)
+
+
+def _one_offset(found: list[_Late], limit: int) -> dict[tuple[str, str], int]:
+    """The late edges put down to one clock, each with how many such edges there are: any none of whose samples
+    came sooner than ``CLOCK_BEHIND_S``; and, however small the offset, those each of whose samples is late by one
+    steady amount (``_Late.steady``) as late as another such edge's (``SAME_CLOCK_S``): two real drones' servers
+    and MAVROS, every sample 0.39-0.44 s late, none sooner than 0.385-0.403 s. A link or a pipeline delaying each
+    edge its own way keeps neither."""
+    steady = sorted((f for f in found if f.steady(limit)), key=lambda f: f.floor)
+    alike: dict[tuple[str, str], int] = {}
+    run: list[_Late] = []
+    for f in [*steady, None]:
+        if f is not None and (not run or f.floor - run[0].floor <= from_sec(SAME_CLOCK_S)):
+            run.append(f)
+            continue
+        if len(run) >= 2:
+            alike.update((r.edge.key, len(run)) for r in run)
+        run = [f] if f is not None else []
+    for f in found:
+        if f.floor > from_sec(CLOCK_BEHIND_S):
+            alike.setdefault(f.edge.key, 1)
+    return alike
+
 
 @register("delay", Severity.warning, "transforms arriving late enough to cause extrapolation errors")
 def delay(scene: Scene) -> Iterator[Finding]:
     limit = from_sec(scene.thresholds.delay)
+    found = []
     for e, stamps, records in _arrivals(scene):
         delays = delays_of(records, stamps, scene.timeline.resolution)
         late = delays > limit
@@ -236,18 +282,30 @@ def delay(scene: Scene) -> Iterator[Finding]:
             continue
         if e.child in scene.shared("time_jumps", lambda: _jumped(scene)):
             continue  # stamps behind arrival since a jump back in time: ``time_backwards`` says so
+        found.append(_Late(e, stamps, records, delays, late))
+    offset = _one_offset(found, limit)
+    for f in found:
+        e, stamps, records, delays, late = f.edge, f.stamps, f.records, f.delays, f.late
         by = scene.by(e.authorities)
         step = scene.timeline.resolution
         coarse = f"; at least: ROS time at arrival ticks every {duration(step / NS_PER_S)}" if step > FINE_STEP else ""
         causes = "a busy publisher, a slow link, stamping with an old acquisition time"
-        if delays.min() > from_sec(CLOCK_BEHIND_S):
+        sooner = f"none arrived sooner than {duration(f.floor / NS_PER_S)} after its stamp"
+        alike = offset.get(e.key)
+        if alike is not None and f.floor > from_sec(CLOCK_BEHIND_S):
             # a hobby robot of 2016 (qjones81/johnny5's data.bag): every edge of three publishers 5.6-6.2 s late at
             # 10-50 Hz, none ever sooner: the robot's clock behind the recorder's, as ``future`` says of one ahead
             causes = (
-                f"none arrived sooner than {duration(delays.min() / NS_PER_S)} after its stamp: most likely the "
-                f"publisher's clock runs behind the recorder's (sync the clocks: chrony/NTP); else {causes}"
+                f"{sooner}: most likely the publisher's clock runs behind the recorder's (sync the clocks: "
+                f"chrony/NTP); else {causes}"
             )
-        found = e.finding(
+        elif alike is not None:
+            causes = (
+                f"{sooner} nor much later, as with {counted(alike - 1, 'more edge')}: one "
+                "steady offset, most likely the publishers' clock behind the recorder's (sync the clocks: "
+                "chrony/NTP); else a link or a pipeline delaying them alike"
+            )
+        finding = e.finding(
             Severity.warning,
             "delay",
             f"{edge(*e.key)}{by} arrives late: {int(late.sum())} of {transforms(len(stamps))} "
@@ -259,7 +317,11 @@ def delay(scene: Scene) -> Iterator[Finding]:
             f"delays it ({causes})",
             stamps[late],
         )
-        yield dataclasses.replace(found, figures={"late_s_min": delays.min() / NS_PER_S})
+        figures: dict[str, float | int | str] = {
+            "late_s_min": f.floor / NS_PER_S,
+            "clock_behind": float(alike is not None),
+        }
+        yield dataclasses.replace(finding, figures=figures)
 
 
 def _held_back(scene: Scene, stamps: Int64Array, records: Int64Array) -> str:
