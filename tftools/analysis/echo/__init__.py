@@ -222,8 +222,22 @@ def separate_trees(buffer: Buffer, target: str, source: str) -> SeparateTrees | 
     named = [root for root in roots if root is not None]
     if any(root not in members for root in named):
         return None
-    hint = join_hint(named, members, tree)
+    alike = (_robots_alike(buffer, root, members[root]) for root in named)
+    hint = next((h for h in alike if h is not None), None) or join_hint(named, members, tree)
     return SeparateTrees(named[0], len(members[named[0]]), named[1], len(members[named[1]]), hint)
+
+
+def _robots_alike(buffer: Buffer, root: str, frames: list[str]) -> str | None:
+    """``wtf``'s hint for a tree that the same node of several robots sends under frames without a robot's prefix
+    (two drones' MAVROS each sending fcu -> lidarlite_laser), from the publishers the buffer heard; else None."""
+    from tftools.analysis.wtf.structure import robots_alike_hint
+
+    children = [(f, h) for f in frames if f != root and (h := buffer.history(f)) is not None]
+    if not children:
+        return None
+    heard = np.unique(np.concatenate([h.authorities for _, h in children]))
+    publishers = [buffer.authorities[int(a)] for a in heard if a >= 0]
+    return robots_alike_hint(root, children[0][0], publishers, buffer.semantics == "ros2")
 
 
 def _root(buffer: Buffer, frame: str) -> str | None:

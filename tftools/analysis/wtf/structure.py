@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import itertools
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 
 import numpy as np
 
@@ -179,14 +179,24 @@ def _robots_alike(scene: Scene, roots: list[str], members: dict[str, list[str]])
     for root in roots[1:TREES_DESCRIBED]:
         frames = set(members[root]) - {root}
         mine = [by_child[child] for child in frames if child in by_child]
-        robots = robots_of(scene.authorities_of(np.concatenate(mine))) if mine else None
-        if robots is not None:
+        if mine:
             child = next(c for c in members[root] if c in frames)
-            return (
-                f"{root}'s tree is sent by {robots_said(robots)}, under frame names without a robot's prefix: "
-                f"nothing attaches it to any robot's frames, and {prefix_hint(robots, (root, child), scene.ros2)}"
-            )
+            hint = robots_alike_hint(root, child, scene.authorities_of(np.concatenate(mine)), scene.ros2)
+            if hint is not None:
+                return hint
     return None
+
+
+def robots_alike_hint(root: str, child: str, publishers: Sequence[str], ros2: bool) -> str | None:
+    """What to do where ``root``'s tree (of which ``root`` -> ``child``) is sent by ``publishers``, if they are the
+    same node of several robots (``robots_of``); else None. ``disconnected``'s hint, and echo's between two trees."""
+    robots = robots_of(publishers)
+    if robots is None:
+        return None
+    return (
+        f"{root}'s tree is sent by {robots_said(robots)}, under frame names without a robot's prefix: "
+        f"nothing attaches it to any robot's frames, and {prefix_hint(robots, (root, child), ros2)}"
+    )
 
 
 def _base_unlike_description(scene: Scene, roots: list[str], members: dict[str, list[str]]) -> str | None:
