@@ -67,7 +67,11 @@ def test_two_message_layouts_taking_turns_are_two_publishers_said_once_for_both_
         "(with base_link -> drop_left and base_link -> drop_right)"
     ) in two.message, two.message
     # of the 10 stamps each sent by both, the first holds the same value in both (the wheels start at 0)
-    assert ", their values always the same; 9 stamps of each came in both, with other values" in two.message
+    assert (
+        "in which drop_left -> left_wheel and drop_right -> right_wheel never change, each always at 100.0 mm and "
+        "0.00° from its parent; 9 stamps of each came in both, with other values"
+    ) in two.message, two.message
+    assert "ROS 2's tf2 keeps both: at that stamp it answers with the one received last" in two.message
     assert two.message.index("kinds of message") < two.message.index("two publishers, it seems")
     assert two.figures["stamps_in_both_with_other_values"] == 18 and two.figures["layouts"] == 2
     assert not {"jump", "time_backwards"} & {f.code for f in findings}  # its symptoms, not said apart

@@ -3,6 +3,8 @@ two message layouts, ROS 2's repeated stamps); the designed reproductions are be
 
 from __future__ import annotations
 
+import pytest
+
 from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.recordings import BY_ID, Corpus
 from tests.corpus.test_issue39 import _findings
@@ -26,3 +28,40 @@ def test_a_json_robot_description_is_read_and_its_absent_publisher_said_once(cor
     kinds = [f for f in findings if f["code"] == "urdf_kind"]
     assert len(kinds) == 2 and all(f["cause"].startswith("mixed_static") for f in kinds), kinds
     assert code == 1 and bag["summary"]["errors"] == 2, bag["summary"]
+
+
+TURTLEBOT4_WHEELS = "ros2-turtlebot4-ignition-gazebo-wheels-from-two-publishers-five-static-senders-sim-clock-2025-db3"
+TURTLEBOT4_PAUSED = (
+    "ros2-turtlebot4-ignition-gazebo-simulation-paused-at-end-tf-fresh-on-sim-time-wheels-from-two-publishers-2025-db3"
+)
+
+
+@pytest.mark.parametrize(
+    ("recording_id", "messages", "both"), [(TURTLEBOT4_WHEELS, 117, 10), (TURTLEBOT4_PAUSED, 94, 15)]
+)
+def test_turtlebot4s_kind_of_message_whose_wheels_stay_at_zero_says_so(
+    recording_id: str,
+    messages: int,
+    both: int,
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """Both TurtleBot 4 runs: one kind of message (4 transforms) holds the wheels always at the identity. wtf said
+    'their values always the same' right after listing both kinds, as if of both; it now says which edges never
+    change and where they stay, in that kind's own clause. At the stamps both kinds sent, it says what ROS 2's tf2
+    does (cache.cpp insertData: keeps both, the last received answering), where the manifest had said it drops
+    them with TF_REPEATED_DATA, a ROS 1 log ROS 2's tf2 does not have."""
+    _, _, findings = _findings(tfx, corpus(BY_ID[recording_id]))
+    (authorities,) = [f for f in findings if f["code"] == "multiple_authorities"]
+    said = authorities["message"]
+    assert (
+        f"{messages} messages of 4 transforms (with base_link -> wheel_drop_left and base_link -> wheel_drop_right), "
+        "every 99.0 ms, in which wheel_drop_left -> left_wheel and wheel_drop_right -> right_wheel never change, each "
+        "always at 0.0 mm and 0.00° from its parent (the identity);"
+    ) in said, said
+    assert "their values always the same" not in said
+    assert f"{both} stamps of each came in both, with other values up to" in said
+    assert "ROS 2's tf2 keeps both: at that stamp it answers with the one received last" in said
+    assert "TF_REPEATED_DATA" not in said and "TF_REPEATED_DATA" not in authorities["hint"]
+    why = BY_ID[TURTLEBOT4_WHEELS].meta["why"]
+    assert "drops the 10 stamps sent twice" not in why and "ROS 2's tf2 keeps both" in why
