@@ -80,7 +80,7 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
         )
         return
     all_moving = [j for j in every if j.type != "fixed" and j.moving]
-    if len(all_moving) > 1 and all(j.name in missing for j in all_moving):
+    if not robot.live and len(all_moving) > 1 and all(j.name in missing for j in all_moving):
         yield _publisher_absent(scene, robot, joints, recorded)
         return
     fixed = [j for j in joints if j.type == "fixed"]
