@@ -6,6 +6,7 @@ and ``time_backwards``. One sender whose messages vary (a tracker sending what i
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 from tests.analysis import wtf_scenes as scenes
@@ -80,3 +81,13 @@ def test_two_message_layouts_taking_turns_are_two_publishers_said_once_for_both_
 def test_one_publisher_whose_messages_vary_is_not_two() -> None:
     findings = check(scenes.recording(_tracker(), ros1=False))
     assert not _authorities(findings), [f.message for f in _authorities(findings)]
+
+
+def test_ros1s_tf2_is_said_to_refuse_the_stamps_both_kinds_sent() -> None:
+    """The same two layouts in a ROS 1 bag without callerids: ROS 1's tf2 keeps a stamp's first value and refuses
+    the other (TF_REPEATED_DATA), where ROS 2's keeps both."""
+    unnamed = [dataclasses.replace(m, publisher=m.topic) for m in _two_publishers()]  # each authority its topic
+    findings = check(scenes.recording(unnamed, ros1=True))
+    (two,) = _authorities(findings)
+    assert "ROS 1's tf2 keeps the first and refuses the other (TF_REPEATED_DATA)" in two.message, two.message
+    assert "ROS 2's" not in two.message
