@@ -393,7 +393,7 @@ def test_a_recording_whose_moving_joints_are_all_missing_says_one_absent_state_p
     messages = [TfMessage(base[0], START, [Transform.from_rpy(base[3], base[4], START, base[1], base[2])])]
     found = findings_of(Scene(recording(messages, ros1=ros1), robot=Robot(ROBOT)))
     (missing,) = [f for f in found if f.code == "urdf_missing"]
-    assert missing.message.startswith("none of the 2 moving joints of rover.urdf is on tf, /joint_states was not")
+    assert missing.message.startswith("none of the 2 moving joints of rover.urdf is on tf, and /joint_states was not")
     assert "of its 5 joints tf carries only base_joint, 4 are missing: laser_joint (laser)" in missing.message
     assert "robot_state_publisher did not run with this URDF" in missing.hint
     assert ("roslaunch" if ros1 else "ros2 launch") in missing.hint

@@ -153,7 +153,7 @@ def _publisher_absent(scene: Scene, robot: Robot, joints: list[Joint], recorded:
     moving = [j for j in joints if j.type != "fixed" and j.moving]
     named = [j.name for j in moving if j.name not in set(states_missing(robot, [m.name for m in moving]))]
     if not recorded:
-        states = f"{robot.messages.joint_topic} was not recorded"
+        states = f"and {robot.messages.joint_topic} was not recorded"
     elif len(named) == len(moving):
         states = f"though {robot.messages.joint_topic} names each"
     elif named:
