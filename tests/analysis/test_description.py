@@ -395,5 +395,5 @@ def test_a_recording_whose_moving_joints_are_all_missing_says_one_absent_state_p
     (missing,) = [f for f in found if f.code == "urdf_missing"]
     assert missing.message.startswith("none of the 2 moving joints of rover.urdf is on tf, and /joint_states was not")
     assert "of its 5 joints tf carries only base_joint, 4 are missing: laser_joint (laser)" in missing.message
-    assert "robot_state_publisher did not run with this URDF" in missing.hint
+    assert "record /joint_states to tell whether joint_state_publisher" in missing.hint
     assert ("roslaunch" if ros1 else "ros2 launch") in missing.hint
