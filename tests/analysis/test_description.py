@@ -382,3 +382,18 @@ def test_odometry_publishing_a_base_the_description_lacks_names_both_frames() ->
         ]
         assert ("odom -> base_footprint names a base that rover.urdf lacks" in apart.hint) is said
         assert ("make the odometry publish odom -> footprint_link" in apart.hint) is said
+
+
+@pytest.mark.parametrize("ros1", [True, False])
+def test_a_recording_whose_moving_joints_are_all_missing_says_one_absent_state_publisher(ros1: bool) -> None:
+    """Only the base's fixed joint on tf, from another broadcaster (Franka teleop's recorder sends its base alone):
+    the URDF's 2 moving joints and its 2 other fixed ones missing are one absent robot_state_publisher, one
+    finding naming them all and what tf carries, not one per joint."""
+    base = ("/tf_static", "base_footprint", "base_link", (0, 0, 0.1), (0, 0, 0))
+    messages = [TfMessage(base[0], START, [Transform.from_rpy(base[3], base[4], START, base[1], base[2])])]
+    found = findings_of(Scene(recording(messages, ros1=ros1), robot=Robot(ROBOT)))
+    (missing,) = [f for f in found if f.code == "urdf_missing"]
+    assert missing.message.startswith("none of the 2 moving joints of rover.urdf is on tf, and /joint_states was not")
+    assert "of its 5 joints tf carries only base_joint, 4 are missing: laser_joint (laser)" in missing.message
+    assert "record /joint_states to tell whether joint_state_publisher" in missing.hint
+    assert ("roslaunch" if ros1 else "ros2 launch") in missing.hint

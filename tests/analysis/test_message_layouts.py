@@ -6,6 +6,7 @@ and ``time_backwards``. One sender whose messages vary (a tracker sending what i
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 from tests.analysis import wtf_scenes as scenes
@@ -67,7 +68,11 @@ def test_two_message_layouts_taking_turns_are_two_publishers_said_once_for_both_
         "(with base_link -> drop_left and base_link -> drop_right)"
     ) in two.message, two.message
     # of the 10 stamps each sent by both, the first holds the same value in both (the wheels start at 0)
-    assert ", their values always the same; 9 stamps of each came in both, with other values" in two.message
+    assert (
+        "in which drop_left -> left_wheel and drop_right -> right_wheel never change, each always at 100.0 mm and "
+        "0.00° from its parent; 9 stamps of each came in both, with other values"
+    ) in two.message, two.message
+    assert "ROS 2's tf2 keeps both: at that stamp it answers with the one received last" in two.message
     assert two.message.index("kinds of message") < two.message.index("two publishers, it seems")
     assert two.figures["stamps_in_both_with_other_values"] == 18 and two.figures["layouts"] == 2
     assert not {"jump", "time_backwards"} & {f.code for f in findings}  # its symptoms, not said apart
@@ -76,3 +81,13 @@ def test_two_message_layouts_taking_turns_are_two_publishers_said_once_for_both_
 def test_one_publisher_whose_messages_vary_is_not_two() -> None:
     findings = check(scenes.recording(_tracker(), ros1=False))
     assert not _authorities(findings), [f.message for f in _authorities(findings)]
+
+
+def test_ros1s_tf2_is_said_to_refuse_the_stamps_both_kinds_sent() -> None:
+    """The same two layouts in a ROS 1 bag without callerids: ROS 1's tf2 keeps a stamp's first value and refuses
+    the other (TF_REPEATED_DATA), where ROS 2's keeps both."""
+    unnamed = [dataclasses.replace(m, publisher=m.topic) for m in _two_publishers()]  # each authority its topic
+    findings = check(scenes.recording(unnamed, ros1=True))
+    (two,) = _authorities(findings)
+    assert "ROS 1's tf2 keeps the first and refuses the other (TF_REPEATED_DATA)" in two.message, two.message
+    assert "ROS 2's" not in two.message

@@ -133,7 +133,7 @@ def test_one_publisher_re_valuing_its_newest_stamp_is_one_note_and_the_stamp_whe
     (backwards,) = [f for f in loud(findings) if f.frames == ("map", "odom")]
     assert (backwards.code, backwards.severity) == ("time_backwards", Severity.warning)
     assert f"1 stamp it had already sent came again with other values ({len(at) - 2} transforms)" in backwards.message
-    assert "lookups at the stamp and up to the next one answer from the last value received" in backwards.message
+    assert "lookups at the stamp and up to the next one answer from the one received last" in backwards.message
 
 
 # --- (b) a stepped simulation clock -----------------------------------------------------------------

@@ -59,6 +59,13 @@ invalid frame arguments    "Invalid argument passed to ..."        "Invalid argu
 ``TF_OLD_DATA`` logs                                               its time ``%.6f``, a second line
 =========================  ======================================  ========================================
 
+Several samples of one stamp under ROS 2, as ``TimeCache::insertData`` (cache.cpp) has it in Humble, Jazzy and
+Rolling alike: no ``TF_REPEATED_DATA`` (ROS 2's tf2 has none); a sample goes in before those of its stamp in a list
+held newest first, so ``findClosest`` meets the last received first, except at the oldest stamp, which it reads
+from the list's back; one equal to a sample held (values, stamp and frames) is skipped since ros2/geometry2#636
+(Rolling, January 2024; Humble 0.25.6), stored again before it (Foxy, Galactic, older Humble), which changes no
+answer.
+
 Over a recording's rows, without a buffer of that cache: ``history.old_data`` is the ``TF_OLD_DATA`` rule
 of the table, ``Buffer.in_static_cache`` the frame that keeps its first kind of cache
 (``Dialect.keeps_first_cache``).

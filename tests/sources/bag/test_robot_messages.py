@@ -77,3 +77,32 @@ def test_decode_holds_each_message_s_record_time_position_and_channel_once() -> 
     assert [ref() for ref in parts] == [None] * len(parts)
     (whole,) = messages.whole
     assert list(whole.record_time) == list(range(300))
+
+
+def _json_payloads(*messages: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    payloads = [m.encode() for m in messages]
+    raw = np.frombuffer(b"".join(payloads), np.uint8)
+    lengths = np.array([len(p) for p in payloads], np.int64)
+    return raw, np.cumsum(lengths) - lengths, lengths
+
+
+def test_json_joint_states_and_description_are_read_as_foxglove_writes_them() -> None:
+    """A Foxglove MCAP's JSON (Franka teleop's /joint_states and /robot_description): each read, a damaged one a
+    failure naming why, the others still read."""
+    read, values, failures = WHOLE_DECODERS["sensor_msgs/msg/JointState", "json"](
+        *_json_payloads(
+            '{"header": {"stamp": {"sec": 3, "nanosec": 5}, "frame_id": "world"}, "name": ["j1", "j2"], '
+            '"position": [0.5, -1.0]}',
+            '{"header": {}, "name": ["j1", "j2"], "position": [0.5]}',
+            '{"name": "j1"}',
+            "not json",
+            '{"name": ["j3"]}',
+        )
+    )
+    assert read == [0, 4] and [m for m, _ in failures] == [1, 2, 3], failures
+    assert values == [JointState(3_000_000_005, {"j1": 0.5, "j2": -1.0}), JointState(0, {})]
+    assert "2 names but 1 positions" in failures[0][1] and "invalid JSON" in failures[2][1]
+    read, values, failures = WHOLE_DECODERS["std_msgs/msg/String", "json"](
+        *_json_payloads('{"data": "<robot name=\\"r\\"/>"}', '{"data": 7}')
+    )
+    assert read == [0] and values == ['<robot name="r"/>'] and [m for m, _ in failures] == [1]

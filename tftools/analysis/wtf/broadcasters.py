@@ -414,10 +414,12 @@ def _shaped(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Split]])
         mine = first.rows[side]
         stamps = np.sort(rows.stamp[mine])
         still = all(bool(np.ptp(rows.values[split.rows[side]], axis=0).max() == 0.0) for _, _, split in edges)
+        held_at = _held_at(
+            [(name, rows.values[split.rows[side][:1]][0]) for name, (_, _, split) in zip(named, edges, strict=True)]
+        )
         kinds.append(
             f"{len(mine)} messages of {transforms(len(held))} "
-            f"({_with(others)}), every {_ms(period(np.diff(stamps)))}"
-            f"{', their values always the same' if still else ''}"
+            f"({_with(others)}), every {_ms(period(np.diff(stamps)))}{held_at if still else ''}"
         )
     every = np.sort(np.concatenate([mine for _, mine, _ in edges]))
     authorities = scene.authorities_of(every)
@@ -426,7 +428,7 @@ def _shaped(scene: Scene, edges: list[tuple[tuple[str, str], IntpArray, Split]])
     both_m = max(split.both_apart[0] for _, _, split in edges)
     both_deg = max(split.both_apart[1] for _, _, split in edges)
     again = (
-        f"; {both} came in both, with other values (up to {_far_as(both_m, both_deg)} apart)"
+        f"; {both} came in both, with other values up to {_far_as(both_m, both_deg)} apart ({_held_twice(scene)})"
         if any(split.both for _, _, split in edges)
         else ""
     )
@@ -478,6 +480,32 @@ def _each(counts: list[int], thing: str) -> str:
     if len(counts) > 1 and len(set(counts)) == 1:
         return f"{counted(counts[0], thing)} of each"
     return counted(sum(counts), thing)
+
+
+def _held_twice(scene: Scene) -> str:
+    """What tf2 does with a stamp it holds sent again with another value (``semantics``' table)."""
+    if scene.buffer.semantics == "ros2":
+        return (
+            "ROS 2's tf2 keeps both: at that stamp it answers with the one received last, the first while it is the "
+            "oldest stamp held"
+        )
+    return "ROS 1's tf2 keeps the first and refuses the other (TF_REPEATED_DATA)"
+
+
+def _held_at(values: list[tuple[str, FloatArray]]) -> str:
+    """Where the edges of one kind of message never change, their one value each from its parent: ", in which
+    a -> b and c -> d never change, each always at 0.0 mm and 0.00° (the identity)"."""
+    names = and_joined([name for name, _ in values])
+    identity = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]])
+    far = [apart(identity, value.reshape(1, 7)) for _, value in values]
+    said = [f"{float(m[0]) * 1000:.1f} mm and {float(d[0]):.2f}°" for m, d in far]
+    nil = all(float(m[0]) < NIL_M and float(d[0]) < NIL_DEG for m, d in far)
+    if len(set(said)) == 1:
+        at = f"{'each ' if len(values) > 1 else ''}always at {said[0]} from its parent"
+    else:
+        at = "always at " + and_joined([f"{s} ({name})" for (name, _), s in zip(values, said, strict=True)])
+    changing = "never changes" if len(values) == 1 else "never change"
+    return f", in which {names} {changing}, {at}{' (the identity)' if nil else ''}"
 
 
 def _far_as(metres: float, degrees: float) -> str:

@@ -19,6 +19,12 @@ def _on_its_frames(cause: Finding, finding: Finding) -> bool:
     return bool(link) and (set(link) <= set(cause.frames) or same_message)
 
 
+def _of_its_frame(cause: Finding, finding: Finding) -> bool:
+    """A joint's finding (its parent and link) about the link the cause found sent on both tf topics, under that
+    parent."""
+    return finding.frames[-1:] == cause.frames[:1] and finding.frames[:1] == cause.frames[1:2]
+
+
 def _same_change(first: Finding, finding: Finding) -> bool:
     """The same thing seen at the same moments on several edges (sent in one message): as many times, from
     the same time to the same time."""
@@ -349,6 +355,13 @@ RULES = (
         "edges stamped out of order (or again) at the same times as often: edges of one message (a real JetAcker's "
         "two joints, 7 samples each), one publisher's, said once",
         keys=_change,
+    ),
+    Rule(
+        frozenset({"mixed_static"}),
+        frozenset({"urdf_kind"}),
+        _of_its_frame,
+        "a fixed joint whose link is sent on /tf as well as /tf_static: the one choice of topic mixed_static says "
+        "(Franka teleop's base and fr3_link0), not a second finding that it comes on /tf",
     ),
     Rule(
         frozenset({"mixed_static"}),

@@ -79,6 +79,10 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
             frames=tuple(dict.fromkeys(f for j in joints for f in (j.parent, j.child))),
         )
         return
+    all_moving = [j for j in every if j.type != "fixed" and j.moving]
+    if not robot.live and len(all_moving) > 1 and all(j.name in missing for j in all_moving):
+        yield _publisher_absent(scene, robot, joints, recorded)
+        return
     fixed = [j for j in joints if j.type == "fixed"]
     all_fixed = [j for j in every if j.type == "fixed"]
     if fixed and len(fixed) == len(all_fixed) and len(all_fixed) > 1:
@@ -138,6 +142,45 @@ def urdf_missing(scene: Scene) -> Iterator[Finding]:
             cause,
             frames=(j.parent, j.child),
         )
+
+
+def _publisher_absent(scene: Scene, robot: Robot, joints: list[Joint], recorded: bool) -> Finding:
+    """Every moving joint of the description missing from tf, where tf carries some of its other joints (another
+    broadcaster's: a recorder that sends only its base, Franka teleop's world -> base -> fr3_link0): one absent
+    robot_state_publisher, not one finding per joint."""
+    every = robot.description.joints
+    shown = [j.name for j in every if j.name not in {m.name for m in joints}]
+    moving = [j for j in joints if j.type != "fixed" and j.moving]
+    named = [j.name for j in moving if j.name not in set(states_missing(robot, [m.name for m in moving]))]
+    topic = robot.messages.joint_topic
+    launch = f"{'ros2 launch' if scene.ros2 else 'roslaunch'} ... {RSP}"
+    if not recorded:
+        states = f"and {topic} was not recorded"
+        hint = (
+            f"record {topic} to tell whether joint_state_publisher (or the driver) published their states, or "
+            f"whether {RSP} did not run ({launch})"
+        )
+    elif named:
+        states = f"though {topic} names {'each' if len(named) == len(moving) else f'{len(named)} of them'}"
+        hint = (
+            f"{RSP} did not run with this URDF (or its /tf and /tf_static were not recorded); the joints tf carries "
+            f"come from another broadcaster: start {RSP} ({launch})"
+        )
+    else:
+        states = f"and no message on {topic} names them"
+        hint = (
+            f"the node that should publish their states (joint_state_publisher, a driver, a controller) does not, "
+            f"so {RSP} cannot place their links; is {RSP} running ({launch})?"
+        )
+    return Finding(
+        Severity.error,
+        "urdf_missing",
+        f"none of the {len(moving)} moving joints of {_from(robot)} is on tf, {states}; of its {len(every)} joints "
+        f"tf carries only {and_joined(shown)}, {len(joints)} are missing: "
+        f"{listed([f'{j.name} ({j.child})' for j in joints])}",
+        hint,
+        frames=tuple(dict.fromkeys(f for j in joints for f in (j.parent, j.child))),
+    )
 
 
 def _judged(scene: Scene, *verdicts: Verdict) -> Iterator[tuple[Robot, JointCheck, Joint]]:

@@ -719,7 +719,8 @@ def _stepped_back(values: FloatArray, stamps: Int64Array, back: BoolArray) -> st
 def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same: bool) -> Finding:
     """Stamps sent again: with the same values (ROS 1's tf2 ignores each, logging TF_REPEATED_DATA at WARN
     level, and answers every lookup as before: a warning, as tf2 says it; ROS 2's takes them silently and is not
-    asked here), or with other values (ROS 1's drops them, updates lost: an error; ROS 2's keeps both)."""
+    asked here), or with other values (ROS 1's drops them, updates lost: an error; ROS 2's keeps both,
+    ``semantics``' table: cache.cpp's ``insertData`` puts a sample before the others of its stamp)."""
     sent = f"{edge(*frames)}{scene.by(scene.authorities_of(offenders))} sent {transforms(len(offenders))}"
     first = scene.first_at(offenders)
     other_values = (
@@ -739,10 +740,10 @@ def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same:
         stamps = counted(len(np.unique(scene.rows.stamp[offenders])), "stamp")  # a new value re-sent is one
         message = (
             f"{edge(*frames)}{scene.by(scene.authorities_of(offenders))}: {stamps} it had already sent came again "
-            f"with other values ({transforms(len(offenders))}), first at {first}: ROS 2's tf2 keeps each value "
-            "once, the newer before the older at that stamp, so lookups at the stamp and up to the next one answer "
-            "from the last value received, and lookups just before it interpolate towards the first (ROS 1's "
-            "would ignore it: TF_REPEATED_DATA)"
+            f"with other values ({transforms(len(offenders))}), first at {first}: ROS 2's tf2 keeps every value "
+            "(it has no TF_REPEATED_DATA), so lookups at the stamp and up to the next one answer from the one "
+            "received last (the first while it is the oldest stamp held), and lookups just before it interpolate "
+            "towards the first (ROS 1's would refuse the later ones: TF_REPEATED_DATA)"
         )
     else:  # each row tf2 refuses whose value is not the one it kept (the stamp's first): a value sent twice is two
         severity, hint = Severity.error, other_values

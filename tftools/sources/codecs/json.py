@@ -6,6 +6,8 @@
 #   "child_frame_id", "transform": {"translation": {x, y, z}, "rotation": {x, y, z, w}}}]}.
 # rosgraph_msgs/msg/Clock: {"clock": {"sec", "nanosec"}}. A time's nanoseconds may be "nsec"
 # (ROS 1's name) or "nanosec" (ROS 2's), its seconds "sec" or "secs".
+# Read whole (``codecs.robot``): std_msgs/msg/String {"data"} (a recorded /robot_description) and
+# sensor_msgs/msg/JointState {"header", "name": [...], "position": [...]}.
 
 from __future__ import annotations
 
@@ -49,6 +51,43 @@ def decode_clocks(raw: UInt8Array, starts: Int64Array, lengths: Int64Array) -> C
         except DecodeError as e:
             failures.append((message, str(e)))
     return np.array(messages, np.int64), np.array(times, np.int64), failures
+
+
+def decode_whole(
+    raw: UInt8Array, starts: Int64Array, lengths: Int64Array, read: Callable[[dict[str, Any]], Any]
+) -> tuple[list[int], list[Any], list[tuple[int, str]]]:
+    """Each message's object read by ``read``: the messages read, their values, and the (message, reason) of those
+    that could not be (``robot.WholeDecoder``)."""
+    read_ok: list[int] = []
+    values: list[Any] = []
+    failures: list[tuple[int, str]] = []
+    for message, (start, length) in enumerate(zip(starts.tolist(), lengths.tolist(), strict=True)):
+        try:
+            values.append(read(load(raw[start : start + length].tobytes())))
+        except DecodeError as e:
+            failures.append((message, str(e)))
+            continue
+        read_ok.append(message)
+    return read_ok, values, failures
+
+
+def string_of(message: dict[str, Any]) -> str:
+    """A std_msgs/msg/String's text."""
+    data = message.get("data", "")
+    if not isinstance(data, str):
+        raise DecodeError("'data' is not a string")
+    return data
+
+
+def joint_state_of(message: dict[str, Any]) -> tuple[int, list[str], list[float]]:
+    """A sensor_msgs/msg/JointState's stamp (ns), joint names and positions."""
+    header = _object(message.get("header"), "header")
+    names, positions = message.get("name", []), message.get("position", [])
+    if not isinstance(names, list) or not all(isinstance(name, str) for name in names):
+        raise DecodeError("'name' is not a list of strings")
+    if not isinstance(positions, list):
+        raise DecodeError("'position' is not a list")
+    return _time(_object(header.get("stamp"), "stamp")), names, [_number(p) for p in positions]
 
 
 def load(data: bytes) -> dict[str, Any]:

@@ -1,5 +1,6 @@
-"""A robot's own messages read whole, in ROS1 and CDR alike (``wire.Cursor``): ``sensor_msgs/JointState``
-(the joints' positions) and ``std_msgs/String`` (``/robot_description``, the URDF)."""
+"""A robot's own messages read whole, in ROS1 and CDR alike (``wire.Cursor``) and in JSON (``codecs.json``, a
+Foxglove MCAP's): ``sensor_msgs/JointState`` (the joints' positions) and ``std_msgs/String``
+(``/robot_description``, the URDF)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from typing import Any
 
 from tftools.core.arrays import Int64Array, UInt8Array
 from tftools.sources.codecs import cdr, ros1
+from tftools.sources.codecs import json as json_codec
 from tftools.sources.codecs.decoded import DecodeError
 from tftools.sources.codecs.wire import MAX_FRAME_ID, Cursor, Wire, wire_of
 
@@ -91,7 +93,10 @@ def _joint_state(cursor: Cursor, seen: Seen) -> JointState:
             raise DecodeError(f"{count} joint names cannot fit in the message")
         names = [_text(cursor, MAX_FRAME_ID) for _ in range(count)]
         seen[where] = (bytes(cursor.raw[begin : cursor.pos]), names)
-    positions = _floats(cursor)
+    return _joint_state_of(stamp, names, _floats(cursor))
+
+
+def _joint_state_of(stamp: int, names: Sequence[str], positions: Sequence[float]) -> JointState:
     if len(positions) not in (0, len(names)):
         raise DecodeError(f"{len(names)} names but {len(positions)} positions")
     return JointState(stamp, dict(zip(names, positions, strict=False)))
@@ -99,6 +104,29 @@ def _joint_state(cursor: Cursor, seen: Seen) -> JointState:
 
 def _string(cursor: Cursor, _seen: Seen) -> str:
     return _text(cursor, MAX_TEXT)
+
+
+def _json_joint_state(message: dict[str, Any]) -> JointState:
+    stamp, names, positions = json_codec.joint_state_of(message)
+    if len(names) > MAX_JOINTS or any(len(name) > MAX_FRAME_ID for name in names):
+        raise DecodeError(f"{len(names)} joint names, or one longer than {MAX_FRAME_ID} bytes")
+    return _joint_state_of(stamp, names, positions)
+
+
+def _json_string(message: dict[str, Any]) -> str:
+    text = json_codec.string_of(message)
+    if len(text) > MAX_TEXT:
+        raise DecodeError(f"a string of {len(text)} characters, over the {MAX_TEXT} read")
+    return text
+
+
+def _json_decoder(read: Callable[[dict[str, Any]], Any]) -> WholeDecoder:
+    def decode(
+        raw: UInt8Array, starts: Int64Array, lengths: Int64Array
+    ) -> tuple[list[int], list[Any], list[tuple[int, str]]]:
+        return json_codec.decode_whole(raw, starts, lengths, read)
+
+    return decode
 
 
 def _decoder(wires: Sequence[Wire], read: Reader) -> WholeDecoder:
@@ -116,4 +144,6 @@ WHOLE_DECODERS: dict[tuple[str, str], WholeDecoder] = {
     (JOINT_STATE, "cdr"): _decoder(cdr.WIRES, _joint_state),
     (STRING, "ros1"): _decoder(ros1.WIRES, _string),
     (STRING, "cdr"): _decoder(cdr.WIRES, _string),
+    (JOINT_STATE, "json"): _json_decoder(_json_joint_state),
+    (STRING, "json"): _json_decoder(_json_string),
 }
