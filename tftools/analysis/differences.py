@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import enum
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from tftools.analysis.expected import FrameShape, StaticValue, Tail, Tolerances, TreeShape
@@ -25,6 +26,7 @@ class Change(str, enum.Enum):
     clocks = "clocks"  # a moving edge's stamps on more time bases in one, or from the epoch in one only
     publishers = "publishers"
     stopped = "stopped"  # a moving edge that stopped before its recording ended in one, sent to the end in the other
+    renamed = "renamed"  # a frame gone from A and one come in B under the same parent, at nearly the same place
 
 
 class Part(str, enum.Enum):
@@ -46,7 +48,10 @@ class Difference:
     same messages as this one in A, in B or in both (``sent_in``: "a", "b", "both") and changed rate as it did
     (``beneath_all``: every one of them is below it in A); a stop's, edges that stopped early in the same recording
     at the same point. ``mimics`` names the frames of the joints that follow this one (the recorded description's
-    ``<mimic>``), held apart with it."""
+    ``<mimic>``), held apart with it; ``folded``, the differences of those frames, each as it was before it was
+    said with this one (what each says of a damaged side is said too). ``other`` names the frame's other name: a
+    rename's in A (``frame`` is its name in B); a frame lost or added beside a rename, the name its namesake has in
+    the other recording."""
 
     change: Change
     frame: str
@@ -62,6 +67,8 @@ class Difference:
     sent_in: str = ""
     beneath_all: bool = False
     mimics: tuple[str, ...] = ()
+    folded: tuple[Difference, ...] = ()
+    other: str = ""
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -101,10 +108,14 @@ def _mimicked(found: list[Difference], a: TreeShape, b: TreeShape) -> list[Diffe
         return found
     folded = {f for names in followers.values() for f in names}
     order = {d.frame: i for i, d in enumerate(found)}
+    moved = {d.frame: d for d in found if d.change is Change.moved}
+
+    def said(d: Difference) -> Difference:
+        names = tuple(sorted(followers[d.frame], key=order.__getitem__))
+        return replace(d, mimics=names, folded=tuple(moved[f] for f in names))
+
     return [
-        replace(d, mimics=tuple(sorted(followers[d.frame], key=order.__getitem__)))
-        if d.frame in followers and d.change is Change.moved
-        else d
+        said(d) if d.frame in followers and d.change is Change.moved else d
         for d in found
         if not (d.frame in folded and d.change is Change.moved)
     ]
@@ -122,33 +133,79 @@ def _held_both(d: Difference) -> bool:
 
 
 def _changed_together(found: list[Difference], a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
-    """``found`` with the edges that came in the same messages (``TreeShape.together``, in A or in B) and changed
-    rate alike (their rates within the tolerance of each other's in A, and in B) said once, with the first of
-    them in A's order (``Difference.said_with``): the Kinect's five edges in one robot_state_publisher's messages
-    at 50 Hz in one recording, at 10 Hz from static_transform_publishers in the other, are one change."""
-    rated = [d for d in found if d.change is Change.rate and d.source is None and d.before and d.after]
-    if len(rated) < 2:
+    """``found`` with the edges that came together and changed alike said once, with the first of them in A's order
+    (``Difference.said_with``): their rates (within the tolerance of each other's in A, and in B), or their
+    publishers (the same in A, and in B). Together: in the same messages (``TreeShape.together``, in A or in B),
+    else each in its own message but stamped alike in both (``TreeShape.stamped``: one publisher's). The Kinect's
+    five edges in one robot_state_publisher's messages at 50 Hz in one recording, at 10 Hz from
+    static_transform_publishers in the other, are one change; so are a Neato driver's odometry and its two wheels,
+    each in its own message with the same stamps, slower in 2024 than in 2023."""
+    found = _grouped(found, a, b, Change.rate, lambda one, other: _alike(one, other, tolerances))
+    return _grouped(found, a, b, Change.publishers, _same_publishers)
+
+
+def _grouped(
+    found: list[Difference], a: TreeShape, b: TreeShape, kind: Change, alike: Callable[[Difference, Difference], bool]
+) -> list[Difference]:
+    """``found`` with the differences of ``kind`` of edges that came together and are ``alike`` said once
+    (``_changed_together``); each said with another is kept in its ``folded``."""
+    chosen = [d for d in found if d.change is kind and d.source is None and d.before and d.after]
+    if len(chosen) < 2:
         return found
-    groups = [_group_of(a.together), _group_of(b.together)]
+    evidence = (
+        [_group_of(a.together), _group_of(b.together)],  # the same messages, in A or in B
+        [_group_of(a.stamped), _group_of(b.stamped)],  # stamped alike, in A and in B
+    )
     taken: set[str] = set()
     said: dict[str, Difference] = {}
     below = _below(a)
-    for i, first in enumerate(rated):
+    for i, first in enumerate(chosen):
         if first.frame in taken:
             continue
-        mates: list[str] = []
-        sides: set[int] = set()
-        for other in rated[i + 1 :]:
-            shared = {k for k in (0, 1) if _same_group(groups[k], first.frame, other.frame)}
-            if other.frame not in taken and shared and _alike(first, other, tolerances):
-                mates.append(other.frame)
-                sides |= shared
+        others = [d for d in chosen[i + 1 :] if d.frame not in taken and alike(first, d)]
+        mates, sent_in = _mates(first, others, *evidence)
         if mates:
-            taken.update(mates)
-            sent_in = "both" if sides == {0, 1} else "a" if sides == {0} else "b"
-            beneath = set(mates) <= below.get(first.frame, set())
-            said[first.frame] = replace(first, said_with=tuple(mates), sent_in=sent_in, beneath_all=beneath)
-    return [said.get(d.frame, d) if _taken(d, set(said)) else d for d in found if not _taken(d, taken)]
+            taken.update(d.frame for d in mates)
+            names = tuple(d.frame for d in mates)
+            beneath = set(names) <= below.get(first.frame, set())
+            said[first.frame] = replace(
+                first, said_with=names, sent_in=sent_in, beneath_all=beneath, folded=tuple(mates)
+            )
+
+    def folded(d: Difference) -> bool:
+        return d.change is kind and d.source is None and d.frame in taken
+
+    def first(d: Difference) -> bool:
+        return d.change is kind and d.source is None and d.frame in said
+
+    return [said[d.frame] if first(d) else d for d in found if not folded(d)]
+
+
+def _mates(
+    first: Difference, others: list[Difference], messages: list[dict[str, int]], stamps: list[dict[str, int]]
+) -> tuple[list[Difference], str]:
+    """Which of ``others`` came with ``first`` and where (``Difference.sent_in``): in the same messages, in A ("a"),
+    in B ("b") or in both; else, none of them so, each in its own message stamped alike in A and in B
+    ("stamped")."""
+    mates: list[Difference] = []
+    sides: set[int] = set()
+    for other in others:
+        shared = {k for k in (0, 1) if _same_group(messages[k], first.frame, other.frame)}
+        if shared:
+            mates.append(other)
+            sides |= shared
+    if mates:
+        return mates, "both" if sides == {0, 1} else "a" if sides == {0} else "b"
+    mates = [d for d in others if all(_same_group(stamps[k], first.frame, d.frame) for k in (0, 1))]
+    return mates, "stamped" if mates else ""
+
+
+def _same_publishers(one: Difference, other: Difference) -> bool:
+    """Whether two edges were published by the same nodes in A, and by the same in B."""
+    assert one.before is not None and one.after is not None and other.before is not None and other.after is not None
+    return set(one.before.publishers or ()) == set(other.before.publishers or ()) and set(
+        one.after.publishers or ()
+    ) == set(other.after.publishers or ())
 
 
 def _stopped_together(found: list[Difference]) -> list[Difference]:
@@ -162,10 +219,10 @@ def _stopped_together(found: list[Difference]) -> list[Difference]:
     for i, first in enumerate(stops):
         if first.frame in taken:
             continue
-        mates = [d.frame for d in stops[i + 1 :] if d.frame not in taken and _at_one_point(first, d)]
+        mates = [d for d in stops[i + 1 :] if d.frame not in taken and _at_one_point(first, d)]
         if mates:
-            taken.update(mates)
-            said[first.frame] = replace(first, said_with=tuple(mates))
+            taken.update(d.frame for d in mates)
+            said[first.frame] = replace(first, said_with=tuple(d.frame for d in mates), folded=tuple(mates))
     if not said:
         return found
     return [said.get(d.frame, d) if d.change is Change.stopped else d for d in found if not _stop_taken(d, taken)]
@@ -192,10 +249,6 @@ def _at_one_point(one: Difference, other: Difference) -> bool:
 
 def _stop_taken(d: Difference, taken: set[str]) -> bool:
     return d.change is Change.stopped and d.frame in taken
-
-
-def _taken(d: Difference, taken: set[str]) -> bool:
-    return d.change is Change.rate and d.source is None and d.frame in taken
 
 
 def _group_of(together: tuple[tuple[str, ...], ...]) -> dict[str, int]:
@@ -339,7 +392,7 @@ def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) 
     """What of an edge stays fixed in both recordings, where one or both send it on /tf (``_fixed``), compared as a
     static edge's value is: a wheel held still in one recording and turning in the other moved by as far as its
     origins are apart; a simulator's laser held on /tf at 50 Hz as far from the real robot's static mount."""
-    (t1, q1), (t2, q2) = _fixed(before), _fixed(after)
+    (t1, q1), (t2, q2) = fixed_value(before), fixed_value(after)
     mm = _mm_apart(t1, t2) if t1 is not None and t2 is not None else 0.0
     deg = _deg_apart(q1, q2) if q1 is not None and q2 is not None else 0.0
     if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
@@ -349,7 +402,7 @@ def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) 
     return []
 
 
-def _fixed(f: FrameShape) -> tuple[Vec3 | None, Quat | None]:
+def fixed_value(f: FrameShape) -> tuple[Vec3 | None, Quat | None]:
     """What of an edge's value stays fixed: all of it where it is static or held on /tf (``held``), a turning
     joint's origin or a sliding joint's rotation (``Motion``); None where nothing does or it is not known."""
     if f.held is not None:
@@ -454,7 +507,7 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"in {a} ({_sent(before)}), {_value(after.held or after)} in {b} ({_sent(after)})"
         )
     if d.change is Change.moved and not (before.static and after.static):
-        (t1, q1), (t2, q2) = _fixed(before), _fixed(after)
+        (t1, q1), (t2, q2) = fixed_value(before), fixed_value(after)
         fixed = [(f"{d.translation_mm:.1f} mm", "translation")] if t1 and t2 else []
         fixed += [(f"{d.rotation_deg:.2f}°", "rotation")] if q1 and q2 else []
         on_tf = "" if before.static or after.static else " (on /tf)"
@@ -511,7 +564,10 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             "(stamps further apart than the transforms took to arrive: publishers on different clocks, as a "
             "recording replayed with its own tf beside live nodes; tfx wtf says which)"
         )
-    return f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+    return (
+        f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+        f"{_sent_with(d, a, b, 'changed publishers')}"
+    )
 
 
 #: What an edge held still in both recordings is, by ``Part``.
@@ -524,15 +580,20 @@ _PARTS = {
 }
 
 
-def _sent_with(d: Difference, a: str, b: str) -> str:
-    """The edges said with a rate's change (``said_with``): where they came with it, and their frames."""
+def _sent_with(d: Difference, a: str, b: str, changed: str = "changed rate") -> str:
+    """The edges said with a rate's or publishers' change (``said_with``): how they came with it, and their
+    frames."""
     if not d.said_with:
         return ""
-    side = {"a": f"in {a}", "b": f"in {b}", "both": f"in {a} and in {b}"}[d.sent_in]
     n = len(d.said_with)
     which = f"the {n} frames beneath it" if d.beneath_all and n > 1 else "the frame beneath it" if d.beneath_all else ""
     which = which or (f"{n} more frames" if n > 1 else "one more frame")
-    return f"; the edges of {which}, sent in the same messages {side}, changed rate with it: {', '.join(d.said_with)}"
+    if d.sent_in == "stamped":
+        how = f"each in messages of its own but stamped as it was, sample for sample, in {a} and in {b} (one source)"
+    else:
+        side = {"a": f"in {a}", "b": f"in {b}", "both": f"in {a} and in {b}"}[d.sent_in]
+        how = f"sent in the same messages {side}"
+    return f"; the edges of {which}, {how}, {changed} with it: {', '.join(d.said_with)}"
 
 
 def _stopped_with(d: Difference, early: str, other: str) -> str:
