@@ -473,6 +473,22 @@ def rotation_angle_deg(a: Quat, b: Quat) -> float:
 def describe(d: Difference, a: str = "A", b: str = "B") -> str:
     """One line saying what differs, the first tree called ``a``, the second ``b``."""
     before, after = d.before, d.after
+    if d.change is Change.lost and before is not None and d.other:
+        return (
+            f"{d.frame} of {a} ({_place(before)}, {_moving(before)}) is at no place of {b}'s frames: {b}'s "
+            f"{d.frame} is {a}'s {d.other}, renamed"
+        )
+    if d.change is Change.added and after is not None and d.other:
+        return (
+            f"{d.frame} of {b} ({_place(after)}, {_moving(after)}) is at no place of {a}'s frames: {a}'s "
+            f"{d.frame} is {d.other} in {b}, renamed"
+        )
+    if d.change is Change.renamed and before is not None and after is not None:
+        return (
+            f"{d.other} in {a} is {d.frame} in {b}, renamed: the one frame of {after.parent} in each near that place, "
+            f"{d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart ({_moving(before)} in {a}, {_moving(after)} "
+            f"in {b})"
+        )
     if d.change is Change.lost and before is not None:
         return f"{d.frame} is in {a} ({_place(before)}), not in {b}"
     if d.change is Change.added and after is not None:

@@ -1,0 +1,93 @@
+"""Frames renamed between two recordings: one gone and another come under the same parent at nearly one place."""
+
+from __future__ import annotations
+
+import math
+
+from tftools.analysis.differences import Change, Difference, fixed_value, rotation_angle_deg
+from tftools.analysis.expected import FrameShape
+
+#: How near two fixed frames of one parent are to be one frame renamed (a description's revision moving a wheel a
+#: few mm), and how far from their parent's origin: at the origin every frame is at one place, which tells nothing.
+RENAME_MM = 20.0
+RENAME_DEG = 5.0
+PLACE_MM = 50.0
+
+
+def renamed(found: list[Difference]) -> list[Difference]:
+    """``found`` with each frame renamed said so (``Change.renamed``: its name in B, its name in A as ``other``,
+    how far it moved): a frame of A (lost, or moved away) and one of B (added, or a frame of A's moved there) under
+    the same parent, each fixed (static, or held on /tf) at least ``PLACE_MM`` from it, within ``RENAME_MM`` and
+    ``RENAME_DEG`` of each other and of no other such frame. A frame moved whose two places are both renames is
+    said by them; one whose one place is a rename is said lost (or added) at the other, its namesake named.
+    The hologlyph robot's wheels renamed across two URDF versions, left_wheel's name given to the rear wheel, read
+    'left_wheel moved 1168.9 mm' and a wheel lost and one added: they are two wheels renamed, each moved 8.9 mm."""
+    moved = {d.frame: pair for d in found if (pair := _moved_away(d)) is not None}
+    was = {d.frame: d.before for d in found if d.change is Change.lost and d.before and _placed(d.before)}
+    now = {d.frame: d.after for d in found if d.change is Change.added and d.after and _placed(d.after)}
+    was.update((name, before) for name, (before, _) in moved.items())
+    now.update((name, after) for name, (_, after) in moved.items())
+    near = {x: [y for y in now if y != x and _near(was[x], now[y])] for x in was}
+    into = {y: [x for x in was if y in near[x]] for y in now}
+    to = {x: ys[0] for x, ys in near.items() if len(ys) == 1 and len(into[ys[0]]) == 1}
+    if not to:
+        return found
+    came = {y: x for x, y in to.items()}
+    said: list[Difference] = []
+    for d in found:
+        x = d.frame
+        if d.change not in (Change.lost, Change.added, Change.moved) or not (x in to or x in came):
+            said.append(d)
+            continue
+        if d.change is Change.moved and x not in moved:
+            said.append(d)
+            continue
+        if d.change is not Change.added and x in to:
+            said.append(_renamed(was[x], now[to[x]]))
+        if d.change is Change.moved and x not in to:
+            said.append(Difference(Change.lost, x, d.before, None, other=came[x]))
+        if d.change is Change.moved and x not in came:
+            said.append(Difference(Change.added, x, None, d.after, other=to[x]))
+    return said
+
+
+def _renamed(before: FrameShape, after: FrameShape) -> Difference:
+    """A frame renamed from ``before``'s name in A to ``after``'s in B, and how far it moved."""
+    (t1, q1), (t2, q2) = _place(before), _place(after)
+    mm, deg = round(1000.0 * math.dist(t1, t2), 6), round(rotation_angle_deg(q1, q2), 6)
+    return Difference(
+        Change.renamed, after.frame, before, after, translation_mm=mm, rotation_deg=deg, other=before.frame
+    )
+
+
+def _moved_away(d: Difference) -> tuple[FrameShape, FrameShape] | None:
+    """A frame fixed in both, moved further than a rename may move one (else it is itself, a little moved)."""
+    if d.change is not Change.moved or d.mimics or d.before is None or d.after is None:
+        return None
+    if not (_placed(d.before) and _placed(d.after)) or _near(d.before, d.after):
+        return None
+    return d.before, d.after
+
+
+def _placed(f: FrameShape) -> bool:
+    """Whether a frame is fixed under its parent, away from its origin (``PLACE_MM``)."""
+    if f.parent is None:
+        return False
+    t, q = fixed_value(f)
+    return t is not None and q is not None and (f.static or f.held is not None) and 1000.0 * math.hypot(*t) >= PLACE_MM
+
+
+def _near(one: FrameShape, other: FrameShape) -> bool:
+    """Whether two fixed frames are under one parent, within ``RENAME_MM`` and ``RENAME_DEG`` of each other."""
+    (t1, q1), (t2, q2) = _place(one), _place(other)
+    return (
+        one.parent == other.parent
+        and 1000.0 * math.dist(t1, t2) <= RENAME_MM
+        and rotation_angle_deg(q1, q2) <= RENAME_DEG
+    )
+
+
+def _place(f: FrameShape) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
+    t, q = fixed_value(f)
+    assert t is not None and q is not None
+    return t, q
