@@ -1,0 +1,77 @@
+"""``tfx diff`` says a frame renamed (one gone, another come under the same parent at nearly one place) as a rename
+with its small move, and nothing of the kind where a frame really went and another came. The real pair that showed
+it is in tests/corpus/test_diff48.py."""
+
+from __future__ import annotations
+
+import math
+
+from tftools.analysis.diff.renames import renamed
+from tftools.analysis.differences import compare, describe
+from tftools.analysis.expected import FrameShape, Tolerances, TreeShape
+
+YAW = (0.0, 0.0, math.sin(math.radians(60)), math.cos(math.radians(60)))
+
+
+def _wheel(name: str, x: float, y: float = -0.34, parent: str = "base_link") -> FrameShape:
+    return FrameShape(name, parent, static=True, translation=(x, y, 0.18), rotation=YAW)
+
+
+def _tree(*wheels: FrameShape) -> TreeShape:
+    frames = {"base_link": FrameShape("base_link", None), **{w.frame: w for w in wheels}}
+    return TreeShape(frames, "here")
+
+
+def _said(a: TreeShape, b: TreeShape) -> list[tuple[str, str, str, float]]:
+    return [
+        (d.change.value, d.frame, d.other, round(d.translation_mm, 1)) for d in renamed(compare(a, b, Tolerances()))
+    ]
+
+
+def test_two_wheels_renamed_in_turn_are_two_renames() -> None:
+    """The hologlyph robot's two URDF versions: left_wheel's name passed to the rear wheel, the front wheel took the
+    left's place's name, each moved 8.9 mm. A move of 1168.9 mm and a wheel lost and one added, before."""
+    a = _tree(_wheel("left_wheel", 0.58), _wheel("rear_wheel", -0.58), _wheel("right_wheel", 0.0, 0.68))
+    b = _tree(_wheel("front_wheel", 0.5889), _wheel("left_wheel", -0.5889), _wheel("right_wheel", 0.0, 0.68))
+    assert _said(a, b) == [("renamed", "front_wheel", "left_wheel", 8.9), ("renamed", "left_wheel", "rear_wheel", 8.9)]
+    first = renamed(compare(a, b, Tolerances()))[0]
+    assert describe(first).startswith(
+        "left_wheel in A is front_wheel in B, renamed: the one frame of base_link in each near that place, 8.9 mm and "
+        "0.00° apart (static at xyz [0.5800, -0.3400, 0.1800] m"
+    ), describe(first)
+
+
+def test_a_frame_renamed_beside_one_that_went_elsewhere_names_its_namesake() -> None:
+    """One wheel renamed, its old name given to a wheel at another place: the rename, and the namesake added."""
+    a = _tree(_wheel("left_wheel", -0.5889), _wheel("front_wheel", 0.5889))
+    b = _tree(_wheel("rear_wheel", -0.58), _wheel("left_wheel", 0.49, -0.30))
+    assert _said(a, b) == [
+        ("renamed", "rear_wheel", "left_wheel", 8.9),
+        ("added", "left_wheel", "rear_wheel", 0.0),
+        ("lost", "front_wheel", "", 0.0),
+    ]
+    added = renamed(compare(a, b, Tolerances()))[1]
+    assert describe(added).endswith("is at no place of A's frames: A's left_wheel is rear_wheel in B, renamed")
+
+
+def test_no_rename_where_a_frame_went_and_another_came_elsewhere_or_near_two() -> None:
+    """A frame gone and another come 30 mm away, under another parent, at the parent's origin, or near two frames
+    that went: a frame lost and one added, as they are."""
+    gone = _tree(_wheel("laser", 0.20))
+    for came in (
+        _wheel("camera", 0.23),  # 30 mm away
+        _wheel("camera", 0.20, parent="base_footprint"),  # another parent
+    ):
+        assert [d[0] for d in _said(gone, _tree(came))] == ["lost", "added"]
+    at_origin = (_wheel("laser", 0.0, 0.0), _wheel("camera", 0.0, 0.0))
+    origin = [FrameShape(w.frame, w.parent, static=True, translation=(0.0, 0.0, 0.0), rotation=YAW) for w in at_origin]
+    assert [d[0] for d in _said(_tree(origin[0]), _tree(origin[1]))] == ["lost", "added"]
+    two = _tree(_wheel("laser", 0.20), _wheel("sonar", 0.21))
+    assert [d[0] for d in _said(two, _tree(_wheel("camera", 0.205)))] == ["lost", "lost", "added"]
+
+
+def test_a_frame_moved_a_little_is_itself_not_a_rename() -> None:
+    """A wheel moved 5 mm beside a frame come near its old place: the wheel moved, the frame added."""
+    a = _tree(_wheel("left_wheel", 0.58))
+    b = _tree(_wheel("left_wheel", 0.585), _wheel("caster", 0.578))
+    assert [d[:2] for d in _said(a, b)] == [("moved", "left_wheel"), ("added", "caster")]
