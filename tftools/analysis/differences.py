@@ -175,10 +175,10 @@ def _grouped(
     def folded(d: Difference) -> bool:
         return d.change is kind and d.source is None and d.frame in taken
 
-    def first(d: Difference) -> bool:
+    def leads(d: Difference) -> bool:
         return d.change is kind and d.source is None and d.frame in said
 
-    return [said[d.frame] if first(d) else d for d in found if not folded(d)]
+    return [said[d.frame] if leads(d) else d for d in found if not folded(d)]
 
 
 def _mates(
@@ -511,11 +511,12 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         return (
             f"{edge}, {what} {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart{why}: "
             f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}{_mimics(d.mimics)}"
+            f"{_kept(d)}"
         )
     if d.change is Change.moved and before.held is not None and after.held is not None:
         return (
             f"{edge} (on /tf, never changing in either) moved by {d.translation_mm:.1f} mm and "
-            f"{d.rotation_deg:.2f}°: {_value(before.held)} in {a}, {_value(after.held)} in {b}"
+            f"{d.rotation_deg:.2f}°: {_value(before.held)} in {a}, {_value(after.held)} in {b}{_kept(d)}"
         )
     if d.change is Change.moved and before.static != after.static and _whole(before) and _whole(after):
         return (
@@ -539,7 +540,7 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         )
         return (
             f"{edge} (static) moved by {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}°: "
-            f"{_value(before)} in {a}, {_value(after)} in {b}{several}"
+            f"{_value(before)} in {a}, {_value(after)} in {b}{several}{_kept(d)}"
         )
     if d.change is Change.rate:
         was, now = _source_rate(before, d.source), _source_rate(after, d.source)
@@ -619,6 +620,19 @@ def _stopped_with(d: Difference, early: str, other: str) -> str:
     n = len(d.said_with)
     which = f"the edges of {n} more frames" if n > 1 else "the edge of one more frame"
     return f"; {which} stopped in {early} at the same point, each sent to the end in {other}: {', '.join(d.said_with)}"
+
+
+def _kept(d: Difference) -> str:
+    """The frames beneath a moved fixed edge that kept their orientation in its parent (``said_with`` of a
+    ``moved``): each one's own edge turned only to undo it."""
+    if d.change is not Change.moved or not d.said_with or d.before is None:
+        return ""
+    return "".join(
+        f"; beneath it, {x.frame} kept its orientation in {d.before.parent}: its own edge ({x.before.parent} -> "
+        f"{x.frame}) turned by {x.rotation_deg:.2f}° only to undo it"
+        for x in d.folded
+        if x.before is not None
+    )
 
 
 def _mimics(mimics: tuple[str, ...]) -> str:
