@@ -80,7 +80,7 @@ def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Differen
         if after is None:
             found.append(Difference(Change.lost, name, before, None))
         else:
-            found.extend(_frame(before, after, tolerances))
+            found.extend(frame_differences(before, after, tolerances))
     found.extend(Difference(Change.added, name, None, f) for name, f in b.frames.items() if name not in a.frames)
     found = _stopped_together(_changed_together(_mimicked(found, a, b), a, b, tolerances))
     if any(d.part is not None for d in found):
@@ -290,7 +290,8 @@ def _below(tree: TreeShape) -> dict[str, set[str]]:
     return found
 
 
-def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+def frame_differences(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+    """What differs about one frame present in both trees (A's ``before``, B's ``after``), beyond ``tolerances``."""
     name = before.frame
     if before.parent != after.parent:
         return [Difference(Change.reparented, name, before, after)]
@@ -482,6 +483,20 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         return (
             f"{d.frame} of {b} ({_place(after)}, {_moving(after)}) is at no place of {a}'s frames: {a}'s "
             f"{d.frame} is {d.other} in {b}, renamed"
+        )
+    if d.change is Change.renamed and before is not None and after is not None and d.folded:
+        back = d.folded[0]
+        return (
+            f"{d.other} and {d.frame} swapped names, each the one frame of {after.parent} near the other's place in "
+            f"{a}: {a}'s {d.other} is {b}'s {d.frame}, {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart; "
+            f"{a}'s {back.other} is {b}'s {back.frame}, {back.translation_mm:.1f} mm and {back.rotation_deg:.2f}° "
+            f"apart"
+        )
+    if d.change is Change.renamed and before is not None and after is not None and not _whole(before):
+        return (
+            f"{d.other} in {a} is {d.frame} in {b}, renamed: {_place(before)} in both, with "
+            f"{'its child' if len(d.said_with) == 1 else f'its {len(d.said_with)} children'} beneath it in both: "
+            f"{', '.join(d.said_with)}"
         )
     if d.change is Change.renamed and before is not None and after is not None:
         return (

@@ -69,7 +69,7 @@ def diff_trees(first: str, second: str, query: DiffQuery | None = None, *, read:
     )
     base = a.tolerances if is_tree_file(first) else b.tolerances  # a recording's are the defaults
     tolerances = overridden(base, query.translation_mm, query.rotation_deg, query.rate_percent)
-    differences = renamed(kept_places(compare(a, b, tolerances), a, b, tolerances))
+    differences = renamed(kept_places(compare(a, b, tolerances), a, b, tolerances), tolerances)
     for location, other in ((first, b), (second, a)):
         if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF
             differences = described_differences(differences, robots[location], other)

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
-from tftools.analysis.differences import Change, Difference, fixed_value, rotation_angle_deg
-from tftools.analysis.expected import FrameShape
+from tftools.analysis.differences import Change, Difference, fixed_value, frame_differences, rotation_angle_deg
+from tftools.analysis.expected import FrameShape, Tolerances
 
 #: How near two fixed frames of one parent are to be one frame renamed (a description's revision moving a wheel a
 #: few mm), and how far from their parent's origin: at the origin every frame is at one place, which tells nothing.
@@ -14,7 +15,7 @@ RENAME_DEG = 5.0
 PLACE_MM = 50.0
 
 
-def renamed(found: list[Difference]) -> list[Difference]:
+def renamed(found: list[Difference], tolerances: Tolerances) -> list[Difference]:
     """``found`` with each frame renamed said so (``Change.renamed``: its name in B, its name in A as ``other``,
     how far it moved): a frame of A (lost, or moved away) and one of B (added, or a frame of A's moved there) under
     the same parent, each fixed (static, or held on /tf) at least ``PLACE_MM`` from it, within ``RENAME_MM`` and
@@ -31,7 +32,7 @@ def renamed(found: list[Difference]) -> list[Difference]:
     into = {y: [x for x in was if y in near[x]] for y in now}
     to = {x: ys[0] for x, ys in near.items() if len(ys) == 1 and len(into[ys[0]]) == 1}
     if not to:
-        return found
+        return _parents_renamed(found, tolerances)
     came = {y: x for x, y in to.items()}
     said: list[Difference] = []
     for d in found:
@@ -42,22 +43,76 @@ def renamed(found: list[Difference]) -> list[Difference]:
         if d.change is Change.moved and x not in moved:
             said.append(d)
             continue
-        if d.change is not Change.added and x in to:
-            said.append(_renamed(was[x], now[to[x]]))
+        if d.change is not Change.added and x in to and not _swapped_later(x, to, said):
+            said.append(
+                _renamed(was[x], now[to[x]], was.get(to[x]), now.get(x))
+                if to.get(to[x]) == x
+                else _renamed(was[x], now[to[x]])
+            )
         if d.change is Change.moved and x not in to:
             said.append(Difference(Change.lost, x, d.before, None, other=came[x]))
         if d.change is Change.moved and x not in came:
             said.append(Difference(Change.added, x, None, d.after, other=to[x]))
+    return _parents_renamed(said, tolerances)
+
+
+def _swapped_later(x: str, to: dict[str, str], said: list[Difference]) -> bool:
+    """Whether ``x`` swapped names with a frame already said with it (one line for a swap)."""
+    return to.get(to[x]) == x and any(d.change is Change.renamed and d.frame == x for d in said)
+
+
+def _renamed(
+    before: FrameShape, after: FrameShape, back: FrameShape | None = None, to: FrameShape | None = None
+) -> Difference:
+    """A frame renamed from ``before``'s name in A to ``after``'s in B, and how far it moved; where the two swapped
+    names (``back``, A's frame of ``after``'s name, is B's ``to``), the other one's rename said with it."""
+    (t1, q1), (t2, q2) = _place(before), _place(after)
+    mm, deg = round(1000.0 * math.dist(t1, t2), 6), round(rotation_angle_deg(q1, q2), 6)
+    d = Difference(Change.renamed, after.frame, before, after, translation_mm=mm, rotation_deg=deg, other=before.frame)
+    if back is None or to is None:
+        return d
+    return replace(d, said_with=(to.frame,), folded=(_renamed(back, to),))
+
+
+def _parents_renamed(found: list[Difference], tolerances: Tolerances) -> list[Difference]:
+    """``found`` with each frame renamed as a parent said so: one lost from A and one added in B, under one parent
+    (or roots both), every child of the lost frame that is in B a child of the added one (one or more); each child's
+    own differences then compared under it. IAS0220's IMU bags: world in one is map in the other, imu_link beneath."""
+    lost = {d.frame: d for d in found if d.change is Change.lost and d.before is not None and not d.other}
+    added = {d.frame: d for d in found if d.change is Change.added and d.after is not None and not d.other}
+    moved: dict[str, set[str]] = {}
+    for d in found:
+        if d.change is Change.reparented and d.before is not None and d.after is not None:
+            moved.setdefault(str(d.before.parent), set()).add(str(d.after.parent))
+    to = {x: next(iter(moved[x])) for x in lost if len(moved.get(x, ())) == 1 and next(iter(moved[x])) in added}
+    to = {x: y for x, y in to.items() if _same_parent(lost[x], added[y]) and list(to.values()).count(y) == 1}
+    if not to:
+        return found
+    came = set(to.values())
+    children = {x: tuple(d.frame for d in found if d.change is Change.reparented and _under(d, x)) for x in to}
+    said: list[Difference] = []
+    for d in found:
+        if d.change is Change.lost and d.frame in to:
+            y = to[d.frame]
+            said.append(
+                replace(
+                    d, change=Change.renamed, after=added[y].after, other=d.frame, frame=y, said_with=children[d.frame]
+                )
+            )
+        elif d.change is Change.reparented and d.before is not None and d.after is not None and d.before.parent in to:
+            said.extend(frame_differences(replace(d.before, parent=d.after.parent), d.after, tolerances))
+        elif not (d.change is Change.added and d.frame in came):
+            said.append(d)
     return said
 
 
-def _renamed(before: FrameShape, after: FrameShape) -> Difference:
-    """A frame renamed from ``before``'s name in A to ``after``'s in B, and how far it moved."""
-    (t1, q1), (t2, q2) = _place(before), _place(after)
-    mm, deg = round(1000.0 * math.dist(t1, t2), 6), round(rotation_angle_deg(q1, q2), 6)
-    return Difference(
-        Change.renamed, after.frame, before, after, translation_mm=mm, rotation_deg=deg, other=before.frame
-    )
+def _under(d: Difference, parent: str) -> bool:
+    return d.before is not None and d.before.parent == parent
+
+
+def _same_parent(lost: Difference, added: Difference) -> bool:
+    assert lost.before is not None and added.after is not None
+    return lost.before.parent == added.after.parent
 
 
 def _moved_away(d: Difference) -> tuple[FrameShape, FrameShape] | None:
