@@ -49,3 +49,19 @@ def test_a_frame_turned_with_the_robot_or_moved_too_is_its_own_difference() -> N
     assert _said(robot, _tree((0.0, 0.0, 0.0), 0.0, -31.5)) == [("base_footprint", ()), ("local_map", ())]
     moved_too = _tree((0.0, 0.0, 0.0), -0.06, 0.06, local_map_at=(0.05, 0.0, 0.0))
     assert _said(_tree((-0.5, -1.5, 0.0), 31.5, -31.5), moved_too) == [("base_footprint", ()), ("local_map", ())]
+
+
+def test_a_frame_that_kept_its_place_under_a_turned_parent_is_said_with_it() -> None:
+    """The GrandTour box's two calibrations: alphasense_base turned 180 degrees about z, cam4 under it moved 208 mm
+    and turned 180 degrees the other way, 1.0 mm from its place in box_base: one line, with cam4's figures. Here the
+    robot turned about z, local_map 409 mm and 180 degrees the other way, 1.0 mm from its place in odom."""
+    a, b = (
+        _tree((0.37, 0.0, 0.07), 0.0, 0.0, (0.104, 0.0, 0.0)),
+        _tree((0.37, 0.0, 0.07), 180.0, 180.0, (-0.305, 0.0, 0.0)),
+    )
+    (d,) = kept_places(compare(a, b, Tolerances()), a, b, Tolerances())
+    assert (d.frame, d.said_with) == ("base_footprint", ("local_map",))
+    assert describe(d).endswith(
+        "; beneath it, local_map kept its place in odom (within 1.0 mm and 0.00°): its own edge (laser -> local_map) "
+        "moved by 409.0 mm and 180.00° to undo it"
+    ), describe(d)

@@ -51,7 +51,8 @@ class Difference:
     ``<mimic>``), held apart with it; ``folded``, the differences of those frames, each as it was before it was
     said with this one (what each says of a damaged side is said too). ``other`` names the frame's other name: a
     rename's in A (``frame`` is its name in B); a frame lost or added beside a rename, the name its namesake has in
-    the other recording."""
+    the other recording. ``kept``: of a fixed edge said with a moved one above it (``folded``), how far (mm,
+    degrees) its frame is from its place in A, in that edge's parent; None where only its orientation was kept."""
 
     change: Change
     frame: str
@@ -69,6 +70,7 @@ class Difference:
     mimics: tuple[str, ...] = ()
     folded: tuple[Difference, ...] = ()
     other: str = ""
+    kept: tuple[float, float] | None = None
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -505,9 +507,9 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"in {b})"
         )
     if d.change is Change.lost and before is not None:
-        return f"{d.frame} is in {a} ({_place(before)}), not in {b}"
+        return f"{d.frame} is in {a} ({_place(before)}), not in {b}{_orphaned(d.said_with, b, a)}"
     if d.change is Change.added and after is not None:
-        return f"{d.frame} is in {b} ({_place(after)}), not in {a}"
+        return f"{d.frame} is in {b} ({_place(after)}), not in {a}{_orphaned(d.said_with, a, b)}"
     assert before is not None and after is not None
     edge = f"{before.parent} -> {d.frame}"
     if d.change is Change.reparented:
@@ -637,13 +639,27 @@ def _stopped_with(d: Difference, early: str, other: str) -> str:
     return f"; {which} stopped in {early} at the same point, each sent to the end in {other}: {', '.join(d.said_with)}"
 
 
+def _orphaned(children: tuple[str, ...], without: str, within: str) -> str:
+    """The children of a frame lost or added that are roots where it is absent (``said_with``)."""
+    if not children:
+        return ""
+    which = "its child" if len(children) == 1 else f"its {len(children)} children"
+    roots = "is a root" if len(children) == 1 else "are roots"
+    return f"; {which} in {within} {roots} in {without}: {', '.join(children)}"
+
+
 def _kept(d: Difference) -> str:
-    """The frames beneath a moved fixed edge that kept their orientation in its parent (``said_with`` of a
-    ``moved``): each one's own edge turned only to undo it."""
+    """The frames beneath a moved fixed edge that kept their place or orientation in its parent (``said_with`` of a
+    ``moved``, each ``kept``): each one's own edge moved to undo it."""
+
     if d.change is not Change.moved or not d.said_with or d.before is None:
         return ""
     return "".join(
-        f"; beneath it, {x.frame} kept its orientation in {d.before.parent}: its own edge ({x.before.parent} -> "
+        f"; beneath it, {x.frame} kept its place in {d.before.parent} (within {x.kept[0]:.1f} mm and "
+        f"{x.kept[1]:.2f}°): its own edge ({x.before.parent} -> {x.frame}) moved by {x.translation_mm:.1f} mm and "
+        f"{x.rotation_deg:.2f}° to undo it"
+        if x.kept is not None
+        else f"; beneath it, {x.frame} kept its orientation in {d.before.parent}: its own edge ({x.before.parent} -> "
         f"{x.frame}) turned by {x.rotation_deg:.2f}° only to undo it"
         for x in d.folded
         if x.before is not None

@@ -1,26 +1,30 @@
-"""Frames that kept their orientation above a moved edge: their own edge turned only to undo it, said with it once."""
+"""Frames that kept their place, or their orientation, above a moved edge: their own edge moved to undo it."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
+from tftools.analysis.diff.renames import RENAME_DEG, RENAME_MM
 from tftools.analysis.differences import Change, Difference, fixed_value, rotation_angle_deg
 from tftools.analysis.expected import Tolerances, TreeShape
 from tftools.core.transform import Transform
 
 
 def kept_places(found: list[Difference], a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
-    """``found`` with each fixed edge that only turned, to undo a fixed edge above it that moved (the frame's
-    orientation in the parent of that edge the same in both, within ``tolerances``), said with that edge once (its
-    ``said_with`` and ``folded``): Stage's local_map, held under robot_0's laser turned opposite the robot's yaw,
-    kept its orientation in robot_0/odom while the robot stood elsewhere, turned otherwise: two lines said one
-    thing."""
+    """``found`` with each fixed edge that moved to undo a fixed edge above it that moved said with that edge once
+    (its ``said_with`` and ``folded``, each folded one with ``kept``: how far its frame is from its place in A, in
+    that edge's parent): its frame's place there within ``RENAME_MM`` and ``RENAME_DEG`` in both while its own edge
+    moved further (the GrandTour box's cam4 under an alphasense_base turned 180 degrees between two calibrations),
+    or its orientation there the same within ``tolerances`` while its own edge only turned (Stage's local_map, held
+    under robot_0's laser turned opposite the robot's yaw, with the robot standing elsewhere)."""
     moved = {d.frame: d for d in found if d.change is Change.moved and d.part is None and _fixed_in_both(d)}
     kept: dict[str, list[Difference]] = {}
     for name, d in moved.items():
-        above = _kept_below(name, moved, a, b, tolerances)
-        if above is not None:
-            kept.setdefault(above, []).append(d)
+        found_above = _kept_below(name, moved, a, b, tolerances)
+        if found_above is not None:
+            above, apart = found_above
+            kept.setdefault(above, []).append(replace(d, kept=apart))
     if not kept:
         return found
     folded = {d.frame for ds in kept.values() for d in ds}
@@ -43,11 +47,10 @@ def _fixed_in_both(d: Difference) -> bool:
 
 def _kept_below(
     name: str, moved: dict[str, Difference], a: TreeShape, b: TreeShape, tolerances: Tolerances
-) -> str | None:
-    """The nearest moved edge above ``name`` (its child frame, its own edge only turned) in whose parent ``name`` is
-    turned alike in both, on one path of fixed edges; None where there is none."""
-    if moved[name].translation_mm > tolerances.translation_mm:
-        return None
+) -> tuple[str, tuple[float, float] | None] | None:
+    """The nearest moved edge above ``name`` (its child frame) in whose parent ``name`` kept its place (how far
+    from it: mm, degrees) or its orientation (None), on one path of fixed edges; None where there is none."""
+    own = moved[name]
     path = [name]
     while len(path) <= len(a.frames):
         parent = a.frames[path[-1]].parent
@@ -60,8 +63,16 @@ def _kept_below(
             was, now = _through(path, a), _through(path, b)
             if was is None or now is None:
                 return None
-            if rotation_angle_deg(was.rotation, now.rotation) <= tolerances.rotation_deg:
-                return parent
+            mm = round(1000.0 * math.dist(was.translation, now.translation), 6)
+            deg = round(rotation_angle_deg(was.rotation, now.rotation), 6)
+            if (
+                mm <= RENAME_MM
+                and deg <= RENAME_DEG
+                and (own.translation_mm > RENAME_MM or own.rotation_deg > RENAME_DEG)
+            ):
+                return parent, (mm, deg)
+            if own.translation_mm <= tolerances.translation_mm and deg <= tolerances.rotation_deg:
+                return parent, None
             return None
     return None
 

@@ -18,8 +18,9 @@ PLACE_MM = 50.0
 def renamed(found: list[Difference], tolerances: Tolerances) -> list[Difference]:
     """``found`` with each frame renamed said so (``Change.renamed``: its name in B, its name in A as ``other``,
     how far it moved): a frame of A (lost, or moved away) and one of B (added, or a frame of A's moved there) under
-    the same parent, each fixed (static, or held on /tf) at least ``PLACE_MM`` from it, within ``RENAME_MM`` and
-    ``RENAME_DEG`` of each other and of no other such frame. A frame moved whose two places are both renames is
+    the same parent (itself in both and not moved, so that a place under it is one place), each fixed (static, or
+    held on /tf) at least ``PLACE_MM`` from it, within ``RENAME_MM`` and ``RENAME_DEG`` of each other and of no
+    other such frame. A frame moved whose two places are both renames is
     said by them; one whose one place is a rename is said lost (or added) at the other, its namesake named.
     The hologlyph robot's wheels renamed across two URDF versions, left_wheel's name given to the rear wheel, read
     'left_wheel moved 1168.9 mm' and a wheel lost and one added: they are two wheels renamed, each moved 8.9 mm."""
@@ -28,6 +29,9 @@ def renamed(found: list[Difference], tolerances: Tolerances) -> list[Difference]
     now = {d.frame: d.after for d in found if d.change is Change.added and d.after and _placed(d.after)}
     was.update((name, before) for name, (before, _) in moved.items())
     now.update((name, after) for name, (_, after) in moved.items())
+    unsettled = {d.frame for d in found if d.change in _UNSETTLED}  # a place under such a parent tells nothing
+    was = {name: f for name, f in was.items() if f.parent not in unsettled}
+    now = {name: f for name, f in now.items() if f.parent not in unsettled}
     near = {x: [y for y in now if y != x and _near(was[x], now[y])] for x in was}
     into = {y: [x for x in was if y in near[x]] for y in now}
     to = {x: ys[0] for x, ys in near.items() if len(ys) == 1 and len(into[ys[0]]) == 1}
@@ -54,6 +58,11 @@ def renamed(found: list[Difference], tolerances: Tolerances) -> list[Difference]
         if d.change is Change.moved and x not in came:
             said.append(Difference(Change.added, x, None, d.after, other=to[x]))
     return _parents_renamed(said, tolerances)
+
+
+#: The differences of a parent under which its children's places are not compared for a rename: the GrandTour
+#: box's alphasense_base turned 180 degrees between two calibrations, its cameras' places under it with it.
+_UNSETTLED = (Change.moved, Change.reparented, Change.static, Change.reordered, Change.lost, Change.added)
 
 
 def _swapped_later(x: str, to: dict[str, str], said: list[Difference]) -> bool:
@@ -87,7 +96,7 @@ def _parents_renamed(found: list[Difference], tolerances: Tolerances) -> list[Di
     to = {x: next(iter(moved[x])) for x in lost if len(moved.get(x, ())) == 1 and next(iter(moved[x])) in added}
     to = {x: y for x, y in to.items() if _same_parent(lost[x], added[y]) and list(to.values()).count(y) == 1}
     if not to:
-        return found
+        return _orphans(found)
     came = set(to.values())
     children = {x: tuple(d.frame for d in found if d.change is Change.reparented and _under(d, x)) for x in to}
     said: list[Difference] = []
@@ -103,7 +112,30 @@ def _parents_renamed(found: list[Difference], tolerances: Tolerances) -> list[Di
             said.extend(frame_differences(replace(d.before, parent=d.after.parent), d.after, tolerances))
         elif not (d.change is Change.added and d.frame in came):
             said.append(d)
-    return said
+    return _orphans(said)
+
+
+def _orphans(found: list[Difference]) -> list[Difference]:
+    """``found`` with the children of a frame lost from A that are roots in B said with it (``said_with``), and
+    those of a frame added in B that were roots in A with it: the PFMS Stage bags' world, whose three robots' odom
+    frames are roots where it is absent, were four lines."""
+    lost = {d.frame for d in found if d.change is Change.lost and not d.other}
+    added = {d.frame for d in found if d.change is Change.added and not d.other}
+    kids: dict[str, list[str]] = {}
+    for d in found:
+        if d.change is Change.reparented and d.before is not None and d.after is not None:
+            if d.after.parent is None and d.before.parent in lost:
+                kids.setdefault(d.before.parent, []).append(d.frame)
+            if d.before.parent is None and d.after.parent in added:
+                kids.setdefault(d.after.parent, []).append(d.frame)
+    if not kids:
+        return found
+    folded = {name for names in kids.values() for name in names}
+    return [
+        replace(d, said_with=tuple(kids[d.frame])) if d.change in (Change.lost, Change.added) and d.frame in kids else d
+        for d in found
+        if not (d.change is Change.reparented and d.frame in folded)
+    ]
 
 
 def _under(d: Difference, parent: str) -> bool:
