@@ -507,9 +507,9 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"in {b})"
         )
     if d.change is Change.lost and before is not None:
-        return f"{d.frame} is in {a} ({_place(before)}), not in {b}{_orphaned(d.said_with, b, a)}"
+        return f"{d.frame} is in {a} ({_place(before)}), not in {b}{_beneath_it(d, b, a)}"
     if d.change is Change.added and after is not None:
-        return f"{d.frame} is in {b} ({_place(after)}), not in {a}{_orphaned(d.said_with, a, b)}"
+        return f"{d.frame} is in {b} ({_place(after)}), not in {a}{_beneath_it(d, a, b)}"
     assert before is not None and after is not None
     edge = f"{before.parent} -> {d.frame}"
     if d.change is Change.reparented:
@@ -639,10 +639,15 @@ def _stopped_with(d: Difference, early: str, other: str) -> str:
     return f"; {which} stopped in {early} at the same point, each sent to the end in {other}: {', '.join(d.said_with)}"
 
 
-def _orphaned(children: tuple[str, ...], without: str, within: str) -> str:
-    """The children of a frame lost or added that are roots where it is absent (``said_with``)."""
+def _beneath_it(d: Difference, without: str, within: str) -> str:
+    """What is said with a frame lost or added: the frames beneath it, absent with it (``folded``), or its children
+    that are roots where it is absent (``said_with`` alone)."""
+    children = d.said_with
     if not children:
         return ""
+    if d.folded:
+        which = "the frame" if len(children) == 1 else f"the {len(children)} frames"
+        return f", nor {which} beneath it: {', '.join(children)}"
     which = "its child" if len(children) == 1 else f"its {len(children)} children"
     roots = "is a root" if len(children) == 1 else "are roots"
     return f"; {which} in {within} {roots} in {without}: {', '.join(children)}"
