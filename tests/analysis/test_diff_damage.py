@@ -41,3 +41,21 @@ def test_an_early_stop_is_put_to_the_damage_only_where_it_reaches_the_last_sampl
     before = Damaged("a chunk is damaged", ((5 * S, 10 * S),))  # lost before it stopped: not why it stopped
     assert damage_notes([early], None, before) == ("",)
     assert damage_notes([early], None, None) == ("",)
+
+
+def test_a_difference_said_with_others_keeps_each_ones_damage_once() -> None:
+    """Two edges that stopped together are one line (``Difference.folded``): where the damage reaches only the second
+    edge's last sample, its note is kept (it was lost with the first's); where both reach it, said once."""
+    sent = Tail(arrived=100 * S, stamp=0, length=100 * S, stopped=False)
+    first = Difference(Change.stopped, "base_link", _edge(20.0, sent), _edge(20.0, _stop(70)))
+    second = Difference(Change.stopped, "wheel", _edge(20.0, sent), _edge(20.0, _stop(50)))
+    said = Difference(Change.stopped, "base_link", first.before, first.after, said_with=("wheel",), folded=(second,))
+    assert damage_notes([said], None, LOST)[0].startswith("B is damaged: its transforms from 40.0 s")
+    assert damage_notes([first], None, LOST) == ("",)  # the first alone: lost before it stopped
+    both = Difference(Change.stopped, "base_link", second.before, second.after, said_with=("wheel",), folded=(second,))
+    (note,) = damage_notes([both], None, LOST)
+    assert note.count("B is damaged") == 1
+
+
+def _stop(at_s: int) -> Tail:
+    return Tail(arrived=at_s * S, stamp=0, length=100 * S, stopped=True)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from tests.analysis.robot_scenes import START as ROBOT_START
 from tests.analysis.robot_scenes import Recorded, write_robot_bag
-from tests.analysis.wtf_scenes import _t, ekf, healthy, periodic, recording, wheels
+from tests.analysis.wtf_scenes import DELAY, _t, ekf, healthy, periodic, recording, wheels
 from tests.bags import TfMessage
 from tftools.analysis.diff import diff_trees
 from tftools.analysis.differences import Change, Part, compare, describe
@@ -134,3 +134,48 @@ def test_a_mimic_joint_held_apart_is_said_with_the_joint_it_follows(tmp_path: Pa
         ("finger_r", Part.joint, ()),
     ]
     assert math.isclose(unknown.differences[1].rotation_deg, 22.918, abs_tol=0.01)
+
+
+def _kinect_stamped(hz: float) -> list[TfMessage]:
+    """Each of the Kinect's edges in messages of its own from one driver, the three stamped alike, each sample."""
+    found: list[TfMessage] = []
+    for k, (parent, child, x) in enumerate(KINECT):
+        found += periodic("/driver", hz, _one_edge(parent, child, x), phase=0.013, delay=DELAY + k * 300_000)
+    return found
+
+
+def test_edges_each_in_its_own_message_stamped_alike_in_both_that_changed_rate_alike_are_one_difference() -> None:
+    """The real Neato of 2023 and 2024: the driver sends odom -> base_footprint and each wheel in messages of their
+    own, the three with one stamp each sample, at 6.1 Hz in 2023 and 4.7 Hz in 2024: three rate lines, now one.
+    Stamped alike in one recording only (in the other, from publishers of their own): each its own line."""
+    fast = shape_of(recording(healthy(wheels=[*wheels(), *_kinect_stamped(6.1)]), ros1=False))
+    slow = shape_of(recording(healthy(wheels=[*wheels(), *_kinect_stamped(4.7)]), ros1=False))
+    assert ("kinect", "kinect_depth", "kinect_rgb") in fast.stamped
+    assert not any("kinect" in group for group in fast.together)
+    (d,) = compare(fast, slow, Tolerances())
+    assert (d.frame, d.said_with, d.sent_in) == ("kinect", ("kinect_depth", "kinect_rgb"), "stamped")
+    assert describe(d).endswith(
+        "; the edges of the 2 frames beneath it, each in messages of its own but stamped as it was, sample for "
+        "sample, in A and in B (one source), changed rate with it: kinect_depth, kinect_rgb"
+    ), describe(d)
+    apart = shape_of(recording(healthy(wheels=[*wheels(), *_kinect_apart((4.7, 4.7, 4.7))]), ros1=False))
+    said = compare(fast, apart, Tolerances())
+    assert [(x.change, x.frame, x.said_with) for x in said] == [(Change.rate, f, ()) for _, f, _ in KINECT]
+
+
+def test_edges_sent_together_whose_publisher_changed_are_one_difference() -> None:
+    """The Kinect's three edges in one node's messages in A, in another's in B: one publishers line; the wheels'
+    publisher, unchanged, is none."""
+    a = shape_of(recording(healthy(wheels=[*wheels(), *periodic("/rsp", 50, _kinect, phase=0.003)])))
+    b = shape_of(recording(healthy(wheels=[*wheels(), *periodic("/kinect_rsp", 50, _kinect, phase=0.003)])))
+    (d,) = compare(a, b, Tolerances())
+    assert (d.change, d.frame, d.said_with, d.sent_in) == (
+        Change.publishers,
+        "kinect",
+        ("kinect_depth", "kinect_rgb"),
+        "both",
+    )
+    assert describe(d) == (
+        "base_link -> kinect published by /kinect_rsp in B, by /rsp in A; the edges of the 2 frames beneath it, "
+        "sent in the same messages in A and in B, changed publishers with it: kinect_depth, kinect_rgb"
+    ), describe(d)

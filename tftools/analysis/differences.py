@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import enum
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from tftools.analysis.expected import FrameShape, StaticValue, Tail, Tolerances, TreeShape
@@ -25,6 +26,7 @@ class Change(str, enum.Enum):
     clocks = "clocks"  # a moving edge's stamps on more time bases in one, or from the epoch in one only
     publishers = "publishers"
     stopped = "stopped"  # a moving edge that stopped before its recording ended in one, sent to the end in the other
+    renamed = "renamed"  # a frame gone from A and one come in B under the same parent, at nearly the same place
 
 
 class Part(str, enum.Enum):
@@ -46,7 +48,11 @@ class Difference:
     same messages as this one in A, in B or in both (``sent_in``: "a", "b", "both") and changed rate as it did
     (``beneath_all``: every one of them is below it in A); a stop's, edges that stopped early in the same recording
     at the same point. ``mimics`` names the frames of the joints that follow this one (the recorded description's
-    ``<mimic>``), held apart with it."""
+    ``<mimic>``), held apart with it; ``folded``, the differences of those frames, each as it was before it was
+    said with this one (what each says of a damaged side is said too). ``other`` names the frame's other name: a
+    rename's in A (``frame`` is its name in B); a frame lost or added beside a rename, the name its namesake has in
+    the other recording. ``kept``: of a fixed edge said with a moved one above it (``folded``), how far (mm,
+    degrees) its frame is from its place in A, in that edge's parent; None where only its orientation was kept."""
 
     change: Change
     frame: str
@@ -62,6 +68,9 @@ class Difference:
     sent_in: str = ""
     beneath_all: bool = False
     mimics: tuple[str, ...] = ()
+    folded: tuple[Difference, ...] = ()
+    other: str = ""
+    kept: tuple[float, float] | None = None
 
 
 def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
@@ -73,7 +82,7 @@ def compare(a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Differen
         if after is None:
             found.append(Difference(Change.lost, name, before, None))
         else:
-            found.extend(_frame(before, after, tolerances))
+            found.extend(frame_differences(before, after, tolerances))
     found.extend(Difference(Change.added, name, None, f) for name, f in b.frames.items() if name not in a.frames)
     found = _stopped_together(_changed_together(_mimicked(found, a, b), a, b, tolerances))
     if any(d.part is not None for d in found):
@@ -101,10 +110,14 @@ def _mimicked(found: list[Difference], a: TreeShape, b: TreeShape) -> list[Diffe
         return found
     folded = {f for names in followers.values() for f in names}
     order = {d.frame: i for i, d in enumerate(found)}
+    moved = {d.frame: d for d in found if d.change is Change.moved}
+
+    def said(d: Difference) -> Difference:
+        names = tuple(sorted(followers[d.frame], key=order.__getitem__))
+        return replace(d, mimics=names, folded=tuple(moved[f] for f in names))
+
     return [
-        replace(d, mimics=tuple(sorted(followers[d.frame], key=order.__getitem__)))
-        if d.frame in followers and d.change is Change.moved
-        else d
+        said(d) if d.frame in followers and d.change is Change.moved else d
         for d in found
         if not (d.frame in folded and d.change is Change.moved)
     ]
@@ -122,33 +135,79 @@ def _held_both(d: Difference) -> bool:
 
 
 def _changed_together(found: list[Difference], a: TreeShape, b: TreeShape, tolerances: Tolerances) -> list[Difference]:
-    """``found`` with the edges that came in the same messages (``TreeShape.together``, in A or in B) and changed
-    rate alike (their rates within the tolerance of each other's in A, and in B) said once, with the first of
-    them in A's order (``Difference.said_with``): the Kinect's five edges in one robot_state_publisher's messages
-    at 50 Hz in one recording, at 10 Hz from static_transform_publishers in the other, are one change."""
-    rated = [d for d in found if d.change is Change.rate and d.source is None and d.before and d.after]
-    if len(rated) < 2:
+    """``found`` with the edges that came together and changed alike said once, with the first of them in A's order
+    (``Difference.said_with``): their rates (within the tolerance of each other's in A, and in B), or their
+    publishers (the same in A, and in B). Together: in the same messages (``TreeShape.together``, in A or in B),
+    else each in its own message but stamped alike in both (``TreeShape.stamped``: one publisher's). The Kinect's
+    five edges in one robot_state_publisher's messages at 50 Hz in one recording, at 10 Hz from
+    static_transform_publishers in the other, are one change; so are a Neato driver's odometry and its two wheels,
+    each in its own message with the same stamps, slower in 2024 than in 2023."""
+    found = _grouped(found, a, b, Change.rate, lambda one, other: _alike(one, other, tolerances))
+    return _grouped(found, a, b, Change.publishers, _same_publishers)
+
+
+def _grouped(
+    found: list[Difference], a: TreeShape, b: TreeShape, kind: Change, alike: Callable[[Difference, Difference], bool]
+) -> list[Difference]:
+    """``found`` with the differences of ``kind`` of edges that came together and are ``alike`` said once
+    (``_changed_together``); each said with another is kept in its ``folded``."""
+    chosen = [d for d in found if d.change is kind and d.source is None and d.before and d.after]
+    if len(chosen) < 2:
         return found
-    groups = [_group_of(a.together), _group_of(b.together)]
+    evidence = (
+        [_group_of(a.together), _group_of(b.together)],  # the same messages, in A or in B
+        [_group_of(a.stamped), _group_of(b.stamped)],  # stamped alike, in A and in B
+    )
     taken: set[str] = set()
     said: dict[str, Difference] = {}
     below = _below(a)
-    for i, first in enumerate(rated):
+    for i, first in enumerate(chosen):
         if first.frame in taken:
             continue
-        mates: list[str] = []
-        sides: set[int] = set()
-        for other in rated[i + 1 :]:
-            shared = {k for k in (0, 1) if _same_group(groups[k], first.frame, other.frame)}
-            if other.frame not in taken and shared and _alike(first, other, tolerances):
-                mates.append(other.frame)
-                sides |= shared
+        others = [d for d in chosen[i + 1 :] if d.frame not in taken and alike(first, d)]
+        mates, sent_in = _mates(first, others, *evidence)
         if mates:
-            taken.update(mates)
-            sent_in = "both" if sides == {0, 1} else "a" if sides == {0} else "b"
-            beneath = set(mates) <= below.get(first.frame, set())
-            said[first.frame] = replace(first, said_with=tuple(mates), sent_in=sent_in, beneath_all=beneath)
-    return [said.get(d.frame, d) if _taken(d, set(said)) else d for d in found if not _taken(d, taken)]
+            taken.update(d.frame for d in mates)
+            names = tuple(d.frame for d in mates)
+            beneath = set(names) <= below.get(first.frame, set())
+            said[first.frame] = replace(
+                first, said_with=names, sent_in=sent_in, beneath_all=beneath, folded=tuple(mates)
+            )
+
+    def folded(d: Difference) -> bool:
+        return d.change is kind and d.source is None and d.frame in taken
+
+    def leads(d: Difference) -> bool:
+        return d.change is kind and d.source is None and d.frame in said
+
+    return [said[d.frame] if leads(d) else d for d in found if not folded(d)]
+
+
+def _mates(
+    first: Difference, others: list[Difference], messages: list[dict[str, int]], stamps: list[dict[str, int]]
+) -> tuple[list[Difference], str]:
+    """Which of ``others`` came with ``first`` and where (``Difference.sent_in``): in the same messages, in A ("a"),
+    in B ("b") or in both; else, none of them so, each in its own message stamped alike in A and in B
+    ("stamped")."""
+    mates: list[Difference] = []
+    sides: set[int] = set()
+    for other in others:
+        shared = {k for k in (0, 1) if _same_group(messages[k], first.frame, other.frame)}
+        if shared:
+            mates.append(other)
+            sides |= shared
+    if mates:
+        return mates, "both" if sides == {0, 1} else "a" if sides == {0} else "b"
+    mates = [d for d in others if all(_same_group(stamps[k], first.frame, d.frame) for k in (0, 1))]
+    return mates, "stamped" if mates else ""
+
+
+def _same_publishers(one: Difference, other: Difference) -> bool:
+    """Whether two edges were published by the same nodes in A, and by the same in B."""
+    assert one.before is not None and one.after is not None and other.before is not None and other.after is not None
+    return set(one.before.publishers or ()) == set(other.before.publishers or ()) and set(
+        one.after.publishers or ()
+    ) == set(other.after.publishers or ())
 
 
 def _stopped_together(found: list[Difference]) -> list[Difference]:
@@ -162,10 +221,10 @@ def _stopped_together(found: list[Difference]) -> list[Difference]:
     for i, first in enumerate(stops):
         if first.frame in taken:
             continue
-        mates = [d.frame for d in stops[i + 1 :] if d.frame not in taken and _at_one_point(first, d)]
+        mates = [d for d in stops[i + 1 :] if d.frame not in taken and _at_one_point(first, d)]
         if mates:
-            taken.update(mates)
-            said[first.frame] = replace(first, said_with=tuple(mates))
+            taken.update(d.frame for d in mates)
+            said[first.frame] = replace(first, said_with=tuple(d.frame for d in mates), folded=tuple(mates))
     if not said:
         return found
     return [said.get(d.frame, d) if d.change is Change.stopped else d for d in found if not _stop_taken(d, taken)]
@@ -192,10 +251,6 @@ def _at_one_point(one: Difference, other: Difference) -> bool:
 
 def _stop_taken(d: Difference, taken: set[str]) -> bool:
     return d.change is Change.stopped and d.frame in taken
-
-
-def _taken(d: Difference, taken: set[str]) -> bool:
-    return d.change is Change.rate and d.source is None and d.frame in taken
 
 
 def _group_of(together: tuple[tuple[str, ...], ...]) -> dict[str, int]:
@@ -237,7 +292,8 @@ def _below(tree: TreeShape) -> dict[str, set[str]]:
     return found
 
 
-def _frame(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+def frame_differences(before: FrameShape, after: FrameShape, tolerances: Tolerances) -> list[Difference]:
+    """What differs about one frame present in both trees (A's ``before``, B's ``after``), beyond ``tolerances``."""
     name = before.frame
     if before.parent != after.parent:
         return [Difference(Change.reparented, name, before, after)]
@@ -339,7 +395,7 @@ def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) 
     """What of an edge stays fixed in both recordings, where one or both send it on /tf (``_fixed``), compared as a
     static edge's value is: a wheel held still in one recording and turning in the other moved by as far as its
     origins are apart; a simulator's laser held on /tf at 50 Hz as far from the real robot's static mount."""
-    (t1, q1), (t2, q2) = _fixed(before), _fixed(after)
+    (t1, q1), (t2, q2) = fixed_value(before), fixed_value(after)
     mm = _mm_apart(t1, t2) if t1 is not None and t2 is not None else 0.0
     deg = _deg_apart(q1, q2) if q1 is not None and q2 is not None else 0.0
     if mm > tolerances.translation_mm or deg > tolerances.rotation_deg:
@@ -349,7 +405,7 @@ def _fixed_parts(before: FrameShape, after: FrameShape, tolerances: Tolerances) 
     return []
 
 
-def _fixed(f: FrameShape) -> tuple[Vec3 | None, Quat | None]:
+def fixed_value(f: FrameShape) -> tuple[Vec3 | None, Quat | None]:
     """What of an edge's value stays fixed: all of it where it is static or held on /tf (``held``), a turning
     joint's origin or a sliding joint's rotation (``Motion``); None where nothing does or it is not known."""
     if f.held is not None:
@@ -420,10 +476,40 @@ def rotation_angle_deg(a: Quat, b: Quat) -> float:
 def describe(d: Difference, a: str = "A", b: str = "B") -> str:
     """One line saying what differs, the first tree called ``a``, the second ``b``."""
     before, after = d.before, d.after
+    if d.change is Change.lost and before is not None and d.other:
+        return (
+            f"{d.frame} of {a} ({_place(before)}, {_moving(before)}) is at no place of {b}'s frames: {b}'s "
+            f"{d.frame} is {a}'s {d.other}, renamed"
+        )
+    if d.change is Change.added and after is not None and d.other:
+        return (
+            f"{d.frame} of {b} ({_place(after)}, {_moving(after)}) is at no place of {a}'s frames: {a}'s "
+            f"{d.frame} is {d.other} in {b}, renamed"
+        )
+    if d.change is Change.renamed and before is not None and after is not None and d.folded:
+        back = d.folded[0]
+        return (
+            f"{d.other} and {d.frame} swapped names, each the one frame of {after.parent} near the other's place in "
+            f"{a}: {a}'s {d.other} is {b}'s {d.frame}, {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart; "
+            f"{a}'s {back.other} is {b}'s {back.frame}, {back.translation_mm:.1f} mm and {back.rotation_deg:.2f}° "
+            f"apart"
+        )
+    if d.change is Change.renamed and before is not None and after is not None and not _whole(before):
+        return (
+            f"{d.other} in {a} is {d.frame} in {b}, renamed: {_place(before)} in both, with "
+            f"{'its child' if len(d.said_with) == 1 else f'its {len(d.said_with)} children'} beneath it in both: "
+            f"{', '.join(d.said_with)}"
+        )
+    if d.change is Change.renamed and before is not None and after is not None:
+        return (
+            f"{d.other} in {a} is {d.frame} in {b}, renamed: the one frame of {after.parent} in each near that place, "
+            f"{d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart ({_moving(before)} in {a}, {_moving(after)} "
+            f"in {b})"
+        )
     if d.change is Change.lost and before is not None:
-        return f"{d.frame} is in {a} ({_place(before)}), not in {b}"
+        return f"{d.frame} is in {a} ({_place(before)}), not in {b}{_beneath_it(d, b, a)}"
     if d.change is Change.added and after is not None:
-        return f"{d.frame} is in {b} ({_place(after)}), not in {a}"
+        return f"{d.frame} is in {b} ({_place(after)}), not in {a}{_beneath_it(d, a, b)}"
     assert before is not None and after is not None
     edge = f"{before.parent} -> {d.frame}"
     if d.change is Change.reparented:
@@ -442,11 +528,12 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         return (
             f"{edge}, {what} {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}° apart{why}: "
             f"{_value(before.held)} in {a}, {_value(after.held)} in {b}{_with_it(d.beneath)}{_mimics(d.mimics)}"
+            f"{_kept(d)}"
         )
     if d.change is Change.moved and before.held is not None and after.held is not None:
         return (
             f"{edge} (on /tf, never changing in either) moved by {d.translation_mm:.1f} mm and "
-            f"{d.rotation_deg:.2f}°: {_value(before.held)} in {a}, {_value(after.held)} in {b}"
+            f"{d.rotation_deg:.2f}°: {_value(before.held)} in {a}, {_value(after.held)} in {b}{_kept(d)}"
         )
     if d.change is Change.moved and before.static != after.static and _whole(before) and _whole(after):
         return (
@@ -454,7 +541,7 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             f"in {a} ({_sent(before)}), {_value(after.held or after)} in {b} ({_sent(after)})"
         )
     if d.change is Change.moved and not (before.static and after.static):
-        (t1, q1), (t2, q2) = _fixed(before), _fixed(after)
+        (t1, q1), (t2, q2) = fixed_value(before), fixed_value(after)
         fixed = [(f"{d.translation_mm:.1f} mm", "translation")] if t1 and t2 else []
         fixed += [(f"{d.rotation_deg:.2f}°", "rotation")] if q1 and q2 else []
         on_tf = "" if before.static or after.static else " (on /tf)"
@@ -470,7 +557,7 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
         )
         return (
             f"{edge} (static) moved by {d.translation_mm:.1f} mm and {d.rotation_deg:.2f}°: "
-            f"{_value(before)} in {a}, {_value(after)} in {b}{several}"
+            f"{_value(before)} in {a}, {_value(after)} in {b}{several}{_kept(d)}"
         )
     if d.change is Change.rate:
         was, now = _source_rate(before, d.source), _source_rate(after, d.source)
@@ -511,7 +598,10 @@ def describe(d: Difference, a: str = "A", b: str = "B") -> str:
             "(stamps further apart than the transforms took to arrive: publishers on different clocks, as a "
             "recording replayed with its own tf beside live nodes; tfx wtf says which)"
         )
-    return f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+    return (
+        f"{edge} published by {_publishers(after)} in {b}, by {_publishers(before)} in {a}"
+        f"{_sent_with(d, a, b, 'changed publishers')}"
+    )
 
 
 #: What an edge held still in both recordings is, by ``Part``.
@@ -524,15 +614,20 @@ _PARTS = {
 }
 
 
-def _sent_with(d: Difference, a: str, b: str) -> str:
-    """The edges said with a rate's change (``said_with``): where they came with it, and their frames."""
+def _sent_with(d: Difference, a: str, b: str, changed: str = "changed rate") -> str:
+    """The edges said with a rate's or publishers' change (``said_with``): how they came with it, and their
+    frames."""
     if not d.said_with:
         return ""
-    side = {"a": f"in {a}", "b": f"in {b}", "both": f"in {a} and in {b}"}[d.sent_in]
     n = len(d.said_with)
     which = f"the {n} frames beneath it" if d.beneath_all and n > 1 else "the frame beneath it" if d.beneath_all else ""
     which = which or (f"{n} more frames" if n > 1 else "one more frame")
-    return f"; the edges of {which}, sent in the same messages {side}, changed rate with it: {', '.join(d.said_with)}"
+    if d.sent_in == "stamped":
+        how = f"each in messages of its own but stamped as it was, sample for sample, in {a} and in {b} (one source)"
+    else:
+        side = {"a": f"in {a}", "b": f"in {b}", "both": f"in {a} and in {b}"}[d.sent_in]
+        how = f"sent in the same messages {side}"
+    return f"; the edges of {which}, {how}, {changed} with it: {', '.join(d.said_with)}"
 
 
 def _stopped_with(d: Difference, early: str, other: str) -> str:
@@ -542,6 +637,38 @@ def _stopped_with(d: Difference, early: str, other: str) -> str:
     n = len(d.said_with)
     which = f"the edges of {n} more frames" if n > 1 else "the edge of one more frame"
     return f"; {which} stopped in {early} at the same point, each sent to the end in {other}: {', '.join(d.said_with)}"
+
+
+def _beneath_it(d: Difference, without: str, within: str) -> str:
+    """What is said with a frame lost or added: the frames beneath it, absent with it (``folded``), or its children
+    that are roots where it is absent (``said_with`` alone)."""
+    children = d.said_with
+    if not children:
+        return ""
+    if d.folded:
+        which = "the frame" if len(children) == 1 else f"the {len(children)} frames"
+        return f", nor {which} beneath it: {', '.join(children)}"
+    which = "its child" if len(children) == 1 else f"its {len(children)} children"
+    roots = "is a root" if len(children) == 1 else "are roots"
+    return f"; {which} in {within} {roots} in {without}: {', '.join(children)}"
+
+
+def _kept(d: Difference) -> str:
+    """The frames beneath a moved fixed edge that kept their place or orientation in its parent (``said_with`` of a
+    ``moved``, each ``kept``): each one's own edge moved to undo it."""
+
+    if d.change is not Change.moved or not d.said_with or d.before is None:
+        return ""
+    return "".join(
+        f"; beneath it, {x.frame} kept its place in {d.before.parent} (within {x.kept[0]:.1f} mm and "
+        f"{x.kept[1]:.2f}°): its own edge ({x.before.parent} -> {x.frame}) moved by {x.translation_mm:.1f} mm and "
+        f"{x.rotation_deg:.2f}° to undo it"
+        if x.kept is not None
+        else f"; beneath it, {x.frame} kept its orientation in {d.before.parent}: its own edge ({x.before.parent} -> "
+        f"{x.frame}) turned by {x.rotation_deg:.2f}° only to undo it"
+        for x in d.folded
+        if x.before is not None
+    )
 
 
 def _mimics(mimics: tuple[str, ...]) -> str:

@@ -157,6 +157,10 @@ class TreeShape:
     #: Of the robot's joints that mimic another (a recorded /robot_description's ``<mimic>``), each one's child
     #: frame and the child frame of the joint it follows; empty where the recording holds no description.
     mimics: dict[str, str] = field(default_factory=dict)
+    #: The moving edges (by child frame) stamped alike in every sample by one source, each in messages of its own
+    #: (``stamped_together``: a driver sending its odometry and each wheel apart, with one stamp), each group of
+    #: two or more in the tree's order; empty where not known.
+    stamped: tuple[tuple[str, ...], ...] = ()
 
 
 def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
@@ -200,7 +204,13 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
     together = sent_together(buffer, frames)
     for name, joint in joints(together, frames).items():
         frames[name] = replace(frames[name], joint=joint)
-    return TreeShape(frames, " + ".join(recording.paths), together=tuple(g for g in together if len(g) > 1))
+    stamped = stamped_together(buffer, frames)
+    return TreeShape(
+        frames,
+        " + ".join(recording.paths),
+        together=tuple(g for g in together if len(g) > 1),
+        stamped=tuple(g for g in stamped if len(g) > 1),
+    )
 
 
 def sent_together(buffer: Buffer, frames: dict[str, FrameShape]) -> list[tuple[str, ...]]:
@@ -219,6 +229,25 @@ def sent_together(buffer: Buffer, frames: dict[str, FrameShape]) -> list[tuple[s
             order = np.lexsort((stamps, records))
             sent = np.stack([records[order], stamps[order], hist.authorities[mine][order].astype(np.int64)])
             groups.setdefault((len(records), hash(sent.tobytes())), []).append(name)
+    return [tuple(names) for names in groups.values()]
+
+
+def stamped_together(buffer: Buffer, frames: dict[str, FrameShape]) -> list[tuple[str, ...]]:
+    """The moving edges of ``frames`` (from their latest parents, seen twice or more) grouped by their stamps and
+    sources: edges that share every stamp, each stamp from the same source (the node, or where the recording names
+    none, the topic), whether or not they came in the same messages. Each group in ``frames``' order."""
+    groups: dict[tuple[int, int], list[str]] = {}
+    for name, f in frames.items():
+        hist = buffer.history(name)
+        if f.static or hist is None or len(hist) < 2:
+            continue
+        mine = hist.parents == hist.latest_parent
+        stamps, sources = hist.stamps[mine], hist.authorities[mine].astype(np.int64)
+        if stamps.min() == stamps.max():  # one stamp throughout (a fixed transform stamped 0) tells no source
+            continue
+        order = np.lexsort((sources, stamps))
+        stamped = np.stack([stamps[order], sources[order]])
+        groups.setdefault((len(stamps), hash(stamped.tobytes())), []).append(name)
     return [tuple(names) for names in groups.values()]
 
 

@@ -88,5 +88,6 @@ def _difference(d: Difference, note: str) -> dict[str, Any]:
         "said_with": list(d.said_with),
         "sent_in": d.sent_in or None,
         "mimics": list(d.mimics),
+        "other": d.other or None,
         "damage": note or None,
     }

@@ -10,7 +10,10 @@ from pathlib import Path
 
 from tftools.analysis.description import described_differences, description_shape
 from tftools.analysis.diff.damage import Damaged, damage_notes, damage_of
+from tftools.analysis.diff.kept import kept_places
 from tftools.analysis.diff.mimics import recorded_mimics
+from tftools.analysis.diff.renames import renamed
+from tftools.analysis.diff.subtrees import whole_subtrees
 from tftools.analysis.differences import Difference, compare
 from tftools.analysis.expected import Tolerances, TreeShape, shape_of
 from tftools.analysis.tree_file import read_tree
@@ -67,7 +70,7 @@ def diff_trees(first: str, second: str, query: DiffQuery | None = None, *, read:
     )
     base = a.tolerances if is_tree_file(first) else b.tolerances  # a recording's are the defaults
     tolerances = overridden(base, query.translation_mm, query.rotation_deg, query.rate_percent)
-    differences = compare(a, b, tolerances)
+    differences = whole_subtrees(renamed(kept_places(compare(a, b, tolerances), a, b, tolerances), tolerances))
     for location, other in ((first, b), (second, a)):
         if location in robots:  # the frames above a robot (odom, map) are no difference from its URDF
             differences = described_differences(differences, robots[location], other)

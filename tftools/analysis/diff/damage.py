@@ -33,8 +33,15 @@ def damage_notes(
 ) -> tuple[str, ...]:
     """For each difference, what says a damaged side may have made it ("" where neither side's damage can): a
     frame missing from a damaged side, a damaged side's lower rate or early stop (transforms lost there count as
-    silence), a fixed value moved where a side holds values read from damaged bytes."""
-    return tuple(_note(d, a, b, names) for d in differences)
+    silence), a fixed value moved where a side holds values read from damaged bytes; for a difference said with
+    others (``Difference.folded``), what each of them says, once each."""
+    return tuple(_notes(d, a, b, names) for d in differences)
+
+
+def _notes(d: Difference, a: Damaged | None, b: Damaged | None, names: tuple[str, str]) -> str:
+    """What a damaged side may have made of ``d`` and of each difference said with it (``folded``), once each."""
+    notes = dict.fromkeys(_note(one, a, b, names) for one in (d, *d.folded))
+    return "; ".join(note for note in notes if note)
 
 
 def _note(d: Difference, a: Damaged | None, b: Damaged | None, names: tuple[str, str]) -> str:
