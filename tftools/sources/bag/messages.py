@@ -12,6 +12,7 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
+from tftools.sources.bag.apart import TfTimes, spread_apart
 from tftools.sources.bag.contents import RecordWindow, merged_clock
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.rows import Channel, Column, Rows
@@ -121,6 +122,9 @@ class MessageSet:
         #: once decoded: per tf topic, the publishers of its empty messages (where the file names them) and how many
         self.tf_empty_from: dict[str, dict[str, int]] = {}
         self.sent = SentMessages.empty()  # once decoded: the tf messages that held a transform
+        #: once decoded, where its record times lie a year apart (``apart``; else none): per tf channel, its topic,
+        #: publisher, and its messages' record times and which were empty, for ``strays`` to count those it leaves out
+        self.tf_times: list[TfTimes] = []
         #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
         #: play`` does): the positions of its messages, sorted, and each one's place in that order.
         self.replayed: tuple[Int64Array, Int64Array] | None = None
@@ -388,7 +392,7 @@ class MessageSet:
         times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
         self._messages = [(times, positions, channel_of)]  # the parts let go: held once while the rows are made
         rank = _rank(times, self._ties(channel_of, positions), positions)
-        self.tf_messages = self._tf_messages(channel_of)
+        self.tf_messages = self._tf_messages(channel_of, times)
         self.sent = self._rows.sent(times, channel_of, rank)
         rows_before = _rows_before(rank, self._rows.runs)
         batches = self._rows.batches(times, channel_of, rank)
@@ -405,7 +409,7 @@ class MessageSet:
         ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
         return ties if self.replayed is None else _placed(self.replayed, positions, ties)
 
-    def _tf_messages(self, channel_of: Int32Array) -> dict[str, tuple[int, int]]:
+    def _tf_messages(self, channel_of: Int32Array, times: Int64Array) -> dict[str, tuple[int, int]]:
         """Per transform topic: its messages, and those decoded that held no transform (an empty TFMessage)."""
         transforms = [i for i, c in enumerate(self.channels) if isinstance(c.codec, Codec)]
         if not transforms:
@@ -416,9 +420,12 @@ class MessageSet:
         held[[message for message, _ in self._failed]] = True  # not read: not known to be empty
         counts: dict[str, tuple[int, int]] = {}
         self.tf_empty_from = {}
+        apart = spread_apart(times)
         for i in transforms:
             mine = channel_of == i
             topic, publisher, empty = self.channels[i].topic, self.channels[i].publisher, int((mine & ~held).sum())
+            if apart:
+                self.tf_times.append(TfTimes(topic, publisher, times[mine], ~held[mine]))
             before = counts.get(topic, (0, 0))
             counts[topic] = (before[0] + int(mine.sum()), before[1] + empty)
             if empty and publisher:

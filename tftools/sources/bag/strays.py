@@ -4,34 +4,17 @@ bytes): left out of a read, and said, so that no span, grid or repeat is sized b
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import take_rows
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, TIME_MAX
+from tftools.sources.bag.apart import APART, TfTimes, kept_span
+from tftools.sources.bag.contents import BagFileInfo
 from tftools.sources.bag.scan import FileRead
 from tftools.sources.contents import StampedMessages
-
-#: Record times further than this from every other of their file's (ns) are not the recording's: no recorder
-#: runs a year without a message, while a clock that jumps decades (a robot booted at 1970, a damaged time) does.
-APART = 365 * 86_400 * NS_PER_S
-_YEAR_S = 365.25 * 86_400
-
-
-def kept_span(times: Int64Array) -> tuple[int, int] | None:
-    """The first and last of the most numerous run of ``times`` with no step over ``APART`` between
-    them, where some lie apart from it; None where none does."""
-    if len(times) < 2:
-        return None
-    ordered = np.sort(times)
-    breaks = np.flatnonzero(np.diff(ordered) > APART)
-    if not len(breaks):
-        return None
-    bounds = np.concatenate([[0], breaks + 1, [len(ordered)]])
-    run = int(np.argmax(np.diff(bounds)))
-    return int(ordered[bounds[run]]), int(ordered[bounds[run + 1] - 1])
 
 
 def leave_out_strays(read: FileRead) -> None:
@@ -41,7 +24,8 @@ def leave_out_strays(read: FileRead) -> None:
     info = read.info
     tf = [b.record_time for b in read.batches]
     others = [read.clock.record_time, *(s.record_time for s in read.stamped), *(w.record_time for w in read.whole)]
-    arrays = [*tf, *others, read.sent.record_time, np.array([info.start, info.end], np.int64)]
+    counted = [t.record_time for t in read.tf_times]  # every tf message, those empty too, where told
+    arrays = [*tf, *others, read.sent.record_time, *counted, np.array([info.start, info.end], np.int64)]
     if _spread(arrays) <= APART:  # the usual case, told without a sort
         return
     every = np.concatenate(arrays)
@@ -54,7 +38,8 @@ def leave_out_strays(read: FileRead) -> None:
         held: BoolArray = ((record_time >= first) & (record_time <= last)) | (record_time == 0)
         return held
 
-    messages = [read.sent.record_time] if len(read.sent) else tf  # a tf message's once, not once a transform
+    # a tf message's once, not once a transform
+    messages = counted or ([read.sent.record_time] if len(read.sent) else tf)
     left = np.concatenate([np.zeros(0, np.int64), *(t[~inside(t)] for t in [*messages, *others])])
     described = [t for t in (info.start, info.end) if t and not first <= t <= last]
     if not len(left) and not described:  # only transforms without their message's time (none of a bag's)
@@ -75,9 +60,26 @@ def leave_out_strays(read: FileRead) -> None:
         for k in [inside(w.record_time)]
     ]
     info.transform_count -= len(dropped_rows)
+    info.message_count = max(0, info.message_count - len(left))
+    _tf_counts_kept(info, read.tf_times, inside)
     if described:
         info.start, info.end = max(info.start, first) if info.start else 0, min(info.end, last)
     info.problems.append(_said(left, described, first, last))
+
+
+def _tf_counts_kept(info: BagFileInfo, tf_times: Sequence[TfTimes], inside: Callable[[Int64Array], BoolArray]) -> None:
+    """``info``'s counts of tf messages per topic (and of empty ones per publisher) without those left out."""
+    for channel in tf_times:
+        out = ~inside(channel.record_time)
+        left, empty = int(out.sum()), int((out & channel.empty).sum())
+        count, empties = info.tf_messages.get(channel.topic, (0, 0))
+        if left:
+            info.tf_messages[channel.topic] = (count - left, empties - empty)
+        senders = info.tf_empty_from.get(channel.topic, {})
+        if empty and channel.publisher in senders:
+            senders[channel.publisher] -= empty
+            if not senders[channel.publisher]:
+                del senders[channel.publisher]
 
 
 def _spread(arrays: Sequence[Int64Array]) -> int:
@@ -108,10 +110,12 @@ def _said(left: Int64Array, described: Sequence[int], first: int, last: int) -> 
     """One line: what was left out, when, and how far from the rest."""
     apart = [int(t) for t in left] or list(described)
     furthest = max(apart, key=lambda t: max(first - t, t - last))
-    years = max(first - furthest, furthest - last) / NS_PER_S / _YEAR_S
+    years = max(first - furthest, furthest - last) / NS_PER_S / (365.25 * 86_400)
     side = "before" if furthest < first else "after"
     what = f"{len(left)} message{'s' if len(left) != 1 else ''}" if len(left) else "its description's start or end"
+    past = furthest == TIME_MAX  # a time past what an int64 holds (read from a u64): its true value not held
+    when = f"record time {furthest} ns" + (" or later: 2262 on, past what a time holds" if past else "")
     return (
-        f"{what} recorded {years:,.1f} years {side} the rest (record time {furthest} ns; the rest from {first} to "
-        f"{last}): left out as damaged (a recorder's clock reset, or bytes overwritten)"
+        f"{what} recorded {years:,.1f} years{' or more' if past else ''} {side} the rest ({when}; the rest from "
+        f"{first} to {last}): left out as damaged (a recorder's clock reset, or bytes overwritten)"
     )
