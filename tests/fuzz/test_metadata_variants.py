@@ -105,7 +105,7 @@ def test_a_bag_with_its_metadata_edited_is_read_from_its_file_or_refused_in_one_
 
 
 @pytest.mark.parametrize("case", ["qos a plain string", "qos a string of a mapping", "qos a number", "counts negative"])
-def test_metadata_that_is_no_count_nor_list_of_profiles_is_said_unreadable_not_counted(case: str, tmp_path: Path) -> None:
+def test_metadata_neither_a_count_nor_profiles_is_said_unreadable_not_counted(case: str, tmp_path: Path) -> None:
     """Before, a plain string of profiles ('reliable') was listed a character each: 8 publishers of /tf_static."""
     from tftools.sources.bag.reader import BagReader
 
