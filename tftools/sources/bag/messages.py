@@ -17,13 +17,13 @@ from tftools.sources.bag.contents import RecordWindow, merged_clock
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
+from tftools.sources.codecs.decoded import Decoded
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, Codec, CopyCodec, HeaderCodec, WholeCodec
-from tftools.sources.codecs.wire import HEADER_BYTES
+from tftools.sources.codecs.wire import HEADER_BYTES, MAX_FRAME_ID, Reason, worded
 from tftools.sources.contents import ClockSamples, SentMessages, StampedMessages, WholeMessages
 
 if TYPE_CHECKING:
     from tftools.core._kernels import Spare
-    from tftools.sources.codecs.decoded import Decoded
     from tftools.sources.codecs.stepped import Started
 
 ChannelIds = int | Int32Array | Sequence[int]
@@ -83,6 +83,30 @@ def _joined(group: list[_Piece]) -> tuple[UInt8Array, Int64Array, Int64Array, In
     return raw, at, np.concatenate(lengths), np.concatenate(ids)
 
 
+def _without_long_names(decoded: Decoded, long: dict[int, str]) -> Decoded:
+    """``decoded`` less the messages naming a frame of ``long`` (by id: those longer than ``MAX_FRAME_ID``
+    characters, damage, not names, as a header's frame_id is, and as a live source drops them), each failed with
+    the name's size: every encoding's transforms, so that no command prints a megabyte as a frame."""
+    if not long or not len(decoded.message):
+        return decoded
+    ids = np.array(list(long), np.int32)
+    named = np.isin(decoded.parent, ids) | np.isin(decoded.child, ids)
+    if not named.any():
+        return decoded
+    failed: dict[int, int] = {}
+    for message, parent, child in zip(
+        *(c[named].tolist() for c in (decoded.message, decoded.parent, decoded.child)), strict=True
+    ):
+        size = max(len(long[i].encode("utf-8", "replace")) for i in (parent, child) if i in long)
+        failed[message] = max(failed.get(message, 0), size)
+    kept = np.flatnonzero(~np.isin(decoded.message, np.array(list(failed), np.int64)))
+    reasons = [(message, worded(Reason.LONG_FRAME_ID, 0, 0, size)) for message, size in failed.items()]
+    return Decoded(
+        decoded.message[kept], decoded.parent[kept], decoded.child[kept], decoded.stamp[kept],
+        decoded.translation[kept], decoded.rotation[kept], sorted(decoded.failures + reasons),
+    )  # fmt: skip
+
+
 class MessageSet:
     """The transform, clock and stamped messages of one file, added in any order; ``decode`` puts them in
     record time order, ties in channel ``tie`` then ``position`` order (their order in the file).
@@ -109,6 +133,8 @@ class MessageSet:
         self._pending_bytes = 0
         self._rows = Rows(self.channels)
         self._failed: Failures = []
+        self._long_names: dict[int, str] = {}  # frame names over MAX_FRAME_ID, by id
+        self._names_seen = 0  # of the frame names, those looked at for length
         self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
         self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
         #: Of messages that state a transform beside their header (Odometry): message numbers, child frames, poses.
@@ -381,6 +407,12 @@ class MessageSet:
 
     def _add_decoded(self, ids: Int64Array, decoded: Decoded) -> None:
         """The rows of messages ``ids`` decoded, and their failures."""
+        names = self._rows.frames.names
+        self._long_names.update(
+            (i, names[i]) for i in range(self._names_seen, len(names)) if len(names[i]) > MAX_FRAME_ID
+        )
+        self._names_seen = len(names)
+        decoded = _without_long_names(decoded, self._long_names)
         self._rows.add_rows(_numbered(ids, decoded.message), decoded)
         self._failed += [(int(ids[row]), reason) for row, reason in decoded.failures]
 
