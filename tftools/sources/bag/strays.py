@@ -4,6 +4,7 @@ bytes): left out of a read, and said, so that no span, grid or repeat is sized b
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -18,32 +19,112 @@ from tftools.sources.contents import StampedMessages
 
 
 def leave_out_strays(read: FileRead) -> None:
-    """The messages of ``read`` recorded ``APART`` from its most numerous run of record times left out (its
-    transforms, clock, headers, messages read whole), and said in one line of its problems; its description's
-    start and end brought within the rest where they lie apart too (a stray message of a topic not read)."""
+    """The messages of ``read`` (a whole file's) recorded ``APART`` from its most numerous run of record times
+    left out (its transforms, clock, headers, messages read whole), and said in one line of its problems; its
+    description's start and end brought within the rest where they lie apart too (a stray message of a topic
+    not read)."""
     info = read.info
-    tf = [b.record_time for b in read.batches]
-    others = [read.clock.record_time, *(s.record_time for s in read.stamped), *(w.record_time for w in read.whole)]
-    counted = [t.record_time for t in read.tf_times]  # every tf message, those empty too, where told
-    arrays = [*tf, *others, read.sent.record_time, *counted, np.array([info.start, info.end], np.int64)]
+    arrays = [*_message_times(read), *(b.record_time for b in read.batches), np.array([info.start, info.end], np.int64)]
     if _spread(arrays) <= APART:  # the usual case, told without a sort
         return
     every = np.concatenate(arrays)
     kept = kept_span(every[every != 0])  # 0: a time not set (an MCAP's robot description logged at 0), kept
     if kept is None:
         return
-    first, last = kept
+    left, described = _left_out(read, *kept)
+    if len(left) or described:
+        info.problems.append(_said(len(left), _furthest([*left.tolist(), *described], *kept), *kept))
+
+
+def leave_out_of_window(read: FileRead, kept: tuple[int, int], count: int, said: str, *, described: bool) -> None:
+    """A window's ``read``: its messages outside ``kept`` (the span ``TimeRuns`` learnt over every window of its
+    file) left out as ``leave_out_strays`` leaves a whole file's, and ``said`` once for the file; a read of the
+    descriptions alone (``described``) has the ``count`` messages left out of every window taken off its own."""
+    _left_out(read, *kept)
+    if described:
+        read.info.message_count = max(0, read.info.message_count - count)
+    if said not in read.info.problems:
+        read.info.problems.append(said)
+
+
+class TimeRuns:
+    """A file's record times gathered window by window as runs with no step over ``APART`` within (first,
+    last, how many): a few however long the recording, at most ``MAX_RUNS`` (then the least numerous are
+    counted together), so that a windowed read learns the strays a whole read leaves out."""
+
+    MAX_RUNS = 64
+
+    def __init__(self) -> None:
+        self.runs: list[tuple[int, int, int]] = []
+        self.described: list[int] = []  # the file's description's start and end
+
+    def add(self, read: FileRead) -> None:
+        """The message times of one window's ``read``."""
+        self.described = [t for t in (read.info.start, read.info.end) if t]
+        every = np.concatenate([np.zeros(0, np.int64), *_message_times(read)])
+        every = np.sort(every[every != 0])
+        if not len(every):
+            return
+        bounds = [0, *(np.flatnonzero(np.diff(every.view(np.uint64)) > APART) + 1).tolist(), len(every)]
+        found = [(int(every[a]), int(every[b - 1]), b - a) for a, b in itertools.pairwise(bounds)]
+        self.runs = _merged(self.runs + found)
+        if len(self.runs) > self.MAX_RUNS:
+            largest = sorted(self.runs, key=lambda r: -r[2])
+            rest = largest[self.MAX_RUNS - 1 :]
+            joined = (min(r[0] for r in rest), max(r[1] for r in rest), sum(r[2] for r in rest))
+            self.runs = sorted([*largest[: self.MAX_RUNS - 1], joined])
+
+    def strays(self) -> tuple[tuple[int, int], int, str] | None:
+        """The span kept, how many messages lay apart from it and the line that says so, where some times lie
+        apart; else None."""
+        if not self.runs:
+            return None
+        first, last, _ = max(self.runs, key=lambda r: r[2])
+        near = [t for t in self.described if first - APART <= t <= last + APART]  # a topic not read's, as whole
+        first, last = min([first, *near]), max([last, *near])
+        apart = [r for r in self.runs if r[1] < first or r[0] > last]
+        described = [t for t in self.described if not first <= t <= last]
+        if not apart and not described:
+            return None
+        ends = [t for r in apart for t in r[:2]] + described
+        count = sum(r[2] for r in apart)
+        return (first, last), count, _said(count, _furthest(ends, first, last), first, last)
+
+
+def _merged(runs: list[tuple[int, int, int]]) -> list[tuple[int, int, int]]:
+    """``runs`` sorted, those that overlap or lie within ``APART`` of each other joined."""
+    joined: list[tuple[int, int, int]] = []
+    for first, last, count in sorted(runs):
+        if joined and first - joined[-1][1] <= APART:
+            was = joined[-1]
+            joined[-1] = (was[0], max(was[1], last), was[2] + count)
+        else:
+            joined.append((first, last, count))
+    return joined
+
+
+def _message_times(read: FileRead) -> list[Int64Array]:
+    """The record times of ``read``'s messages, each once: its tf messages (those empty too, where told), its
+    clock's, its headers' and those read whole."""
+    tf = [t.record_time for t in read.tf_times] or (
+        [read.sent.record_time] if len(read.sent) else [b.record_time for b in read.batches]
+    )
+    return [*tf, read.clock.record_time, *(s.record_time for s in read.stamped), *(w.record_time for w in read.whole)]
+
+
+def _left_out(read: FileRead, first: int, last: int) -> tuple[Int64Array, list[int]]:
+    """``read``'s messages recorded outside ``first`` to ``last`` left out, its counts and description brought
+    within; returns their record times and the description's ends that lay outside."""
+    info = read.info
 
     def inside(record_time: Int64Array) -> BoolArray:
         held: BoolArray = ((record_time >= first) & (record_time <= last)) | (record_time == 0)
         return held
 
-    # a tf message's once, not once a transform
-    messages = counted or ([read.sent.record_time] if len(read.sent) else tf)
-    left = np.concatenate([np.zeros(0, np.int64), *(t[~inside(t)] for t in [*messages, *others])])
+    left = np.concatenate([np.zeros(0, np.int64), *(t[~inside(t)] for t in _message_times(read))])
     described = [t for t in (info.start, info.end) if t and not first <= t <= last]
     if not len(left) and not described:  # only transforms without their message's time (none of a bag's)
-        return
+        return left, described
     transforms = [inside(b.record_time) for b in read.batches]
     dropped_rows = np.flatnonzero(~np.concatenate([np.ones(0, bool), *transforms]))
     read.batches = [take_rows(b, np.flatnonzero(k)) for b, k in zip(read.batches, transforms, strict=True)]
@@ -64,7 +145,11 @@ def leave_out_strays(read: FileRead) -> None:
     _tf_counts_kept(info, read.tf_times, inside)
     if described:
         info.start, info.end = max(info.start, first) if info.start else 0, min(info.end, last)
-    info.problems.append(_said(left, described, first, last))
+    return left, described
+
+
+def _furthest(times: Sequence[int], first: int, last: int) -> int:
+    return max(times, key=lambda t: max(first - t, t - last))
 
 
 def _tf_counts_kept(info: BagFileInfo, tf_times: Sequence[TfTimes], inside: Callable[[Int64Array], BoolArray]) -> None:
@@ -106,13 +191,12 @@ def _stamped_kept(stream: StampedMessages, held: BoolArray, dropped_rows: Int64A
     return dataclasses.replace(stream, **columns)
 
 
-def _said(left: Int64Array, described: Sequence[int], first: int, last: int) -> str:
-    """One line: what was left out, when, and how far from the rest."""
-    apart = [int(t) for t in left] or list(described)
-    furthest = max(apart, key=lambda t: max(first - t, t - last))
+def _said(count: int, furthest: int, first: int, last: int) -> str:
+    """One line: how many messages were left out (none: only the description's start or end lay apart), the
+    furthest of them, and how far it lies from the rest."""
     years = max(first - furthest, furthest - last) / NS_PER_S / (365.25 * 86_400)
     side = "before" if furthest < first else "after"
-    what = f"{len(left)} message{'s' if len(left) != 1 else ''}" if len(left) else "its description's start or end"
+    what = f"{count} message{'s' if count != 1 else ''}" if count else "its description's start or end"
     past = furthest == TIME_MAX  # a time past what an int64 holds (read from a u64): its true value not held
     when = f"record time {furthest} ns" + (" or later: 2262 on, past what a time holds" if past else "")
     return (

@@ -205,7 +205,8 @@ def _messages(
     table = "messages NOT INDEXED"
     if window is not None:
         table = "messages"
-        conditions += [f"timestamp >= {int(window.first)}", f"timestamp < {int(window.last)}"]
+        below = "<=" if window.closed else "<"
+        conditions += [f"timestamp >= {int(window.first)}", f"timestamp {below} {int(window.last)}"]
     where = " AND ".join(c for c in (*conditions, db.typed.removeprefix(" AND ")) if c)
     query = f"SELECT topic_id, timestamp, id, {data} FROM {table}" + (f" WHERE {where}" if where else "")
     unpack = result.messages.unpack
