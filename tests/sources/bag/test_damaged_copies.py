@@ -499,6 +499,40 @@ def test_a_real_chunk_whose_message_index_lies_about_its_length_is_read_by_walki
     ]
 
 
+@pytest.mark.parametrize("name", [NAV2_TB4, "ros2_mcap_coug_auv_replayed"], ids=["zstd", "uncompressed, in ranges"])
+def test_a_real_chunk_with_a_message_index_beyond_the_file_is_walked_alike_read_from_object_storage(
+    name: str, tmp_path: Path
+) -> None:
+    """One walk for a local file and one read in ranges through fsspec (its memory filesystem, as object storage
+    is read): the chunk with a message index's length set beyond the file is walked, every message read, alike
+    (the CougUV AUV's one uncompressed chunk is read in ranges, /tf and /tf_static out of its 2,671 messages)."""
+    import fsspec
+
+    bag = copied(name, tmp_path)
+    (part,) = [bag] if bag.is_file() else bag.glob("*.mcap")
+    whole, _ = rows(bag)
+    (chunk,) = _chunks(part)
+    with part.open("r+b") as f:
+        f.seek(min(chunk.index_offsets.values()) + 11)
+        f.write(struct.pack("<I", 0x7FFFFFFF))
+    fs = fsspec.filesystem("memory")
+    url = f"/hostile48/{tmp_path.name}/{part.name}"
+    fs.put(str(part), url)
+    try:
+        here, there = (
+            read_contents([part], ["/tf", "/tf_static"]),
+            read_contents([f"memory://{url}"], ["/tf", "/tf_static"]),
+        )
+    finally:
+        fs.rm(url)
+    assert batch_rows(there.transforms) == batch_rows(here.transforms) and sorted(
+        batch_rows(here.transforms)
+    ) == sorted(whole)
+    assert there.problems == here.problems and len(here.problems) == 1
+    assert here.problems[0].startswith("1 of 1 chunks is damaged (bad message index): all ")
+    assert there.files[0].fetched is not None and here.files[0].fetched is None  # read remotely, and here
+
+
 def test_a_real_db3_sqlite_gives_up_on_lets_go_of_what_sqlite_held_before_its_pages_are_read(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
