@@ -57,7 +57,7 @@ HOSTILE_NAMES = (
     "<b>html</b>&{brace}|port:x",
     "[bold]markup[/bold]",
     ":smile:",
-    "x" * 10_000,
+    "x" * 4_096,  # the longest a frame name may be (MAX_FRAME_ID): a longer one is damage, left out
     "tab\there\r\x07\u202eevil",
 )
 HOSTILE_PUBLISHER = "/pub\x1b]0;title\x07[red]x"

@@ -15,6 +15,10 @@ LATEST = 0
 #: Stamps below this (2001-09-09) count from boot or a simulation's start, not from the epoch.
 EPOCH_FLOOR = 1_000_000_000 * NS_PER_S
 
+#: The last time a time holds (int64 ns: 2262-04-11). A format's unsigned time past it is damage, held as this
+#: one: it sorts after every other time, and is said as past 2262.
+TIME_MAX = 2**63 - 1
+
 
 def to_sec(stamp_ns: int) -> float:
     """Seconds as ``ros::Time::toSec`` computes them (``sec + 1e-9 * nsec``, floor-normalised)."""

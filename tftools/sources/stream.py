@@ -230,11 +230,9 @@ def stream_recording(
     no transform was found."""
     reader = BagReader(paths, topics).__enter__()
     try:
-        described = reader.read(RecordWindow(0, 0))
-        windows = _windows(described.files, window_messages)
-        summary = _Summary(semantics or semantics_of(described), described.files)
-        for index, window in enumerate(windows):
-            summary.add(reader.read(window, _share(progress, index, len(windows))))
+        windows, summary = _first_pass(reader, window_messages, semantics, progress)
+        if reader.strays_learnt():  # messages decades from the rest: the pass again without them, said
+            windows, summary = _first_pass(reader, window_messages, semantics, progress)
         contents = RecordingContents([], summary.files, reader.topics)
         if not summary.transforms:
             raise no_transforms(paths, contents)
@@ -255,6 +253,18 @@ def stream_recording(
     return StreamedRecording(
         reader, windows, contents, recorded, summary.frames, summary.semantics, summary.parents, arrivals, kept
     )
+
+
+def _first_pass(
+    reader: BagReader, window_messages: int, semantics: Semantics | None, progress: ProgressCallback | None
+) -> tuple[tuple[Window, ...], _Summary]:
+    """The recording described, cut in windows, each read once into what the replay needs to know of it."""
+    described = reader.read(RecordWindow(0, 0))
+    windows = _windows(described.files, window_messages)
+    summary = _Summary(semantics or semantics_of(described), described.files)
+    for index, window in enumerate(windows):
+        summary.add(reader.read(window, _share(progress, index, len(windows))))
+    return windows, summary
 
 
 def _halves(pairs: Iterator[tuple[First, Second]]) -> tuple[Iterator[First], Iterator[Second]]:

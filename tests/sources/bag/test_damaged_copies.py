@@ -16,7 +16,7 @@ from mcap.writer import CompressionType
 
 from tests.sources.bag.damaged import copied, cut, rows
 from tests.sources.bag.reading import read_contents
-from tests.sources.ros2_helpers import Other, varied_messages, write_rosbag2
+from tests.sources.ros2_helpers import Other, batch_rows, varied_messages, write_rosbag2
 from tftools.sources.bag.mcap.index import summary_of
 from tftools.sources.bag.mcap.records import ChunkIndex
 from tftools.sources.bag.ros1.records import (
@@ -201,6 +201,28 @@ def test_a_real_db3_cut_where_its_topics_pages_are_reads_the_messages_before_the
     got, problems = rows(bag)
     assert set(got) <= set(whole) and len(got) > len(whole) // 3
     assert any(p.startswith("its topics table is damaged") for p in problems)
+
+
+def test_a_real_db3_whose_header_claims_2_to_the_31_pages_gives_every_message_from_its_pages(tmp_path: Path) -> None:
+    """The TurtleBot3 walker's .db3 (886 pages) with its header's page count set to 2**31, its change counter
+    still valid: taken for a file cut short, it is read from its pages. Compared with the intact file: all of its
+    1,743 transforms in its 1,242 tf messages come back, and its 255 clock messages (1,497 messages of the topics
+    read); every one of the 8,542 messages sqlite counts is in the pages. Said so: before, the line said
+    'those in missing or damaged pages are lost' while none was."""
+    intact = copied("ros2_db3_tb3_gazebo_walker", tmp_path / "intact")
+    bag = copied("ros2_db3_tb3_gazebo_walker", tmp_path)
+    (db3,) = bag.glob("*.db3")
+    data = bytearray(db3.read_bytes())
+    data[28:32] = (2**31).to_bytes(4, "big")
+    db3.write_bytes(bytes(data))
+    was, read = read_contents([intact]), read_contents([bag])
+    assert not was.problems
+    (problem,) = read.problems
+    assert problem.startswith("the database is damaged (cut short: 886 of its 2147483648 pages): read the 1497 ")
+    assert problem.endswith("all 8,542 messages its statistics count are there, none lost")
+    assert sorted(batch_rows(read.transforms)) == sorted(batch_rows(was.transforms)) and len(was.transforms) == 1743
+    assert read.files[0].tf_messages == was.files[0].tf_messages == {"/tf": (1241, 0), "/tf_static": (1, 0)}
+    assert len(read.clock.record_time) == len(was.clock.record_time) == 255
 
 
 def test_the_pages_of_a_damaged_db3_give_a_header_topics_messages_cut_to_their_header(tmp_path: Path) -> None:
@@ -475,6 +497,40 @@ def test_a_real_chunk_whose_message_index_lies_about_its_length_is_read_by_walki
         "1 of 1 chunks is damaged (bad message index): all 8197 of its messages still parse and are read, but a "
         "value among them may be wrong"
     ]
+
+
+@pytest.mark.parametrize("name", [NAV2_TB4, "ros2_mcap_coug_auv_replayed"], ids=["zstd", "uncompressed, in ranges"])
+def test_a_real_chunk_with_a_message_index_beyond_the_file_is_walked_alike_read_from_object_storage(
+    name: str, tmp_path: Path
+) -> None:
+    """One walk for a local file and one read in ranges through fsspec (its memory filesystem, as object storage
+    is read): the chunk with a message index's length set beyond the file is walked, every message read, alike
+    (the CougUV AUV's one uncompressed chunk is read in ranges, /tf and /tf_static out of its 2,671 messages)."""
+    import fsspec
+
+    bag = copied(name, tmp_path)
+    (part,) = [bag] if bag.is_file() else bag.glob("*.mcap")
+    whole, _ = rows(bag)
+    (chunk,) = _chunks(part)
+    with part.open("r+b") as f:
+        f.seek(min(chunk.index_offsets.values()) + 11)
+        f.write(struct.pack("<I", 0x7FFFFFFF))
+    fs = fsspec.filesystem("memory")
+    url = f"/hostile48/{tmp_path.name}/{part.name}"
+    fs.put(str(part), url)
+    try:
+        here, there = (
+            read_contents([part], ["/tf", "/tf_static"]),
+            read_contents([f"memory://{url}"], ["/tf", "/tf_static"]),
+        )
+    finally:
+        fs.rm(url)
+    assert batch_rows(there.transforms) == batch_rows(here.transforms) and sorted(
+        batch_rows(here.transforms)
+    ) == sorted(whole)
+    assert there.problems == here.problems and len(here.problems) == 1
+    assert here.problems[0].startswith("1 of 1 chunks is damaged (bad message index): all ")
+    assert there.files[0].fetched is not None and here.files[0].fetched is None  # read remotely, and here
 
 
 def test_a_real_db3_sqlite_gives_up_on_lets_go_of_what_sqlite_held_before_its_pages_are_read(

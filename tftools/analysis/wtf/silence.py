@@ -72,6 +72,8 @@ def _tallies(scene: Scene) -> Iterator[TopicTally]:
         inside = (records >= file.start) & (records <= file.end)
         for topic in dict.fromkeys([*listed, *read]):
             messages, publishers = listed.get(topic, (read.get(topic, (0, 0))[0], 0))
+            if messages > file.message_count:  # more than the file holds in all: metadata.yaml not of this file
+                messages = read.get(topic, (0, 0))[0]
             seen, empty = read.get(topic, (0, 0))
             observed = empty if topic in read and seen == messages else None  # a window read: not all of it
             if topic not in listed and not empty:

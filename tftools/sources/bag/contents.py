@@ -10,6 +10,7 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
+from tftools.core.time import TIME_MAX
 from tftools.sources.contents import ClockSamples, RecordingContents, SourceInfo
 from tftools.values import value
 
@@ -22,17 +23,27 @@ CLOCK_TOPIC = "/clock"
 
 @value
 class RecordWindow:
-    """Record times ``[first, last)`` (ns): what a windowed read keeps of a recording."""
+    """Record times ``[first, last)`` (ns): what a windowed read keeps of a recording; ``[first, last]`` where
+    ``last`` is the last time (``TIME_MAX``), which a damaged time past it is held as: no window left it out."""
 
     first: int
     last: int
 
+    @property
+    def closed(self) -> bool:
+        """Whether the window holds ``last`` too (it is ``TIME_MAX``)."""
+        return self.last >= TIME_MAX
+
     def overlaps(self, start: int, end: int) -> bool:
         """Whether messages recorded from ``start`` to ``end`` (both included) may lie in the window."""
-        return self.first < self.last and start < self.last and end >= self.first
+        return (
+            self.first < self.last and (start <= self.last if self.closed else start < self.last) and end >= self.first
+        )
 
     def holds(self, record_time: Int64Array) -> BoolArray:
-        return (record_time >= self.first) & (record_time < self.last)
+        below = record_time <= self.last if self.closed else record_time < self.last
+        held: BoolArray = (record_time >= self.first) & below
+        return held
 
 
 def in_turn(progress: ProgressCallback, sizes: Sequence[int]) -> Iterator[ProgressCallback]:

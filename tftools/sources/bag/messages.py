@@ -12,17 +12,18 @@ import numpy as np
 
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, UInt8Array
 from tftools.core.batch import TransformBatch
+from tftools.sources.bag.apart import TfTimes, spread_apart
 from tftools.sources.bag.contents import RecordWindow, merged_clock
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.rows import Channel, Column, Rows
 from tftools.sources.bag.spans import Spans
+from tftools.sources.codecs.decoded import Decoded
 from tftools.sources.codecs.select import AnyCodec, ClockCodec, Codec, CopyCodec, HeaderCodec, WholeCodec
-from tftools.sources.codecs.wire import HEADER_BYTES
+from tftools.sources.codecs.wire import HEADER_BYTES, MAX_FRAME_ID, Reason, worded
 from tftools.sources.contents import ClockSamples, SentMessages, StampedMessages, WholeMessages
 
 if TYPE_CHECKING:
     from tftools.core._kernels import Spare
-    from tftools.sources.codecs.decoded import Decoded
     from tftools.sources.codecs.stepped import Started
 
 ChannelIds = int | Int32Array | Sequence[int]
@@ -82,6 +83,30 @@ def _joined(group: list[_Piece]) -> tuple[UInt8Array, Int64Array, Int64Array, In
     return raw, at, np.concatenate(lengths), np.concatenate(ids)
 
 
+def _without_long_names(decoded: Decoded, long: dict[int, str]) -> Decoded:
+    """``decoded`` less the messages naming a frame of ``long`` (by id: those longer than ``MAX_FRAME_ID``
+    characters, damage, not names, as a header's frame_id is, and as a live source drops them), each failed with
+    the name's size: every encoding's transforms, so that no command prints a megabyte as a frame."""
+    if not long or not len(decoded.message):
+        return decoded
+    ids = np.array(list(long), np.int32)
+    named = np.isin(decoded.parent, ids) | np.isin(decoded.child, ids)
+    if not named.any():
+        return decoded
+    failed: dict[int, int] = {}
+    for message, parent, child in zip(
+        *(c[named].tolist() for c in (decoded.message, decoded.parent, decoded.child)), strict=True
+    ):
+        size = max(len(long[i].encode("utf-8", "replace")) for i in (parent, child) if i in long)
+        failed[message] = max(failed.get(message, 0), size)
+    kept = np.flatnonzero(~np.isin(decoded.message, np.array(list(failed), np.int64)))
+    reasons = [(message, worded(Reason.LONG_FRAME_ID, 0, 0, size)) for message, size in failed.items()]
+    return Decoded(
+        decoded.message[kept], decoded.parent[kept], decoded.child[kept], decoded.stamp[kept],
+        decoded.translation[kept], decoded.rotation[kept], sorted(decoded.failures + reasons),
+    )  # fmt: skip
+
+
 class MessageSet:
     """The transform, clock and stamped messages of one file, added in any order; ``decode`` puts them in
     record time order, ties in channel ``tie`` then ``position`` order (their order in the file).
@@ -108,6 +133,8 @@ class MessageSet:
         self._pending_bytes = 0
         self._rows = Rows(self.channels)
         self._failed: Failures = []
+        self._long_names: dict[int, str] = {}  # frame names over MAX_FRAME_ID, by id
+        self._names_seen = 0  # of the frame names, those looked at for length
         self._clocks: list[tuple[Int64Array, Int64Array]] = []  # message numbers and clock values
         self._headers: list[tuple[Int64Array, Int64Array, Int32Array]] = []  # message numbers, stamps, frames
         #: Of messages that state a transform beside their header (Odometry): message numbers, child frames, poses.
@@ -121,6 +148,9 @@ class MessageSet:
         #: once decoded: per tf topic, the publishers of its empty messages (where the file names them) and how many
         self.tf_empty_from: dict[str, dict[str, int]] = {}
         self.sent = SentMessages.empty()  # once decoded: the tf messages that held a transform
+        #: once decoded, where its record times lie a year apart (``apart``; else none): per tf channel, its topic,
+        #: publisher, and its messages' record times and which were empty, for ``strays`` to count those it leaves out
+        self.tf_times: list[TfTimes] = []
         #: Where a format replays messages of one record time in an order of its own (a ROS1 bag, as ``rosbag
         #: play`` does): the positions of its messages, sorted, and each one's place in that order.
         self.replayed: tuple[Int64Array, Int64Array] | None = None
@@ -377,6 +407,12 @@ class MessageSet:
 
     def _add_decoded(self, ids: Int64Array, decoded: Decoded) -> None:
         """The rows of messages ``ids`` decoded, and their failures."""
+        names = self._rows.frames.names
+        self._long_names.update(
+            (i, names[i]) for i in range(self._names_seen, len(names)) if len(names[i]) > MAX_FRAME_ID
+        )
+        self._names_seen = len(names)
+        decoded = _without_long_names(decoded, self._long_names)
         self._rows.add_rows(_numbered(ids, decoded.message), decoded)
         self._failed += [(int(ids[row]), reason) for row, reason in decoded.failures]
 
@@ -388,7 +424,7 @@ class MessageSet:
         times, positions, channel_of = (np.concatenate(column) for column in zip(*self._messages, strict=True))
         self._messages = [(times, positions, channel_of)]  # the parts let go: held once while the rows are made
         rank = _rank(times, self._ties(channel_of, positions), positions)
-        self.tf_messages = self._tf_messages(channel_of)
+        self.tf_messages = self._tf_messages(channel_of, times)
         self.sent = self._rows.sent(times, channel_of, rank)
         rows_before = _rows_before(rank, self._rows.runs)
         batches = self._rows.batches(times, channel_of, rank)
@@ -405,7 +441,7 @@ class MessageSet:
         ties = np.array([c.tie for c in self.channels], np.int64)[channel_of]
         return ties if self.replayed is None else _placed(self.replayed, positions, ties)
 
-    def _tf_messages(self, channel_of: Int32Array) -> dict[str, tuple[int, int]]:
+    def _tf_messages(self, channel_of: Int32Array, times: Int64Array) -> dict[str, tuple[int, int]]:
         """Per transform topic: its messages, and those decoded that held no transform (an empty TFMessage)."""
         transforms = [i for i, c in enumerate(self.channels) if isinstance(c.codec, Codec)]
         if not transforms:
@@ -416,9 +452,12 @@ class MessageSet:
         held[[message for message, _ in self._failed]] = True  # not read: not known to be empty
         counts: dict[str, tuple[int, int]] = {}
         self.tf_empty_from = {}
+        apart = spread_apart(times)
         for i in transforms:
             mine = channel_of == i
             topic, publisher, empty = self.channels[i].topic, self.channels[i].publisher, int((mine & ~held).sum())
+            if apart:
+                self.tf_times.append(TfTimes(topic, publisher, times[mine], ~held[mine]))
             before = counts.get(topic, (0, 0))
             counts[topic] = (before[0] + int(mine.sum()), before[1] + empty)
             if empty and publisher:

@@ -19,7 +19,7 @@ from tftools.sources.bag.contents import (
 )
 from tftools.sources.bag.formats import sniff
 from tftools.sources.bag.scan import FileRead, placed_among, record_times
-from tftools.sources.bag.strays import leave_out_strays
+from tftools.sources.bag.strays import TimeRuns, leave_out_of_window, leave_out_strays
 from tftools.sources.codecs.select import Wanted
 from tftools.sources.contents import DEFAULT_TOPICS, MessageSink, StampedRead, concat_sent
 from tftools.sources.errors import BagError
@@ -68,6 +68,8 @@ class BagReader:
         self.wanted = Wanted(tuple(topics) if topics else DEFAULT_TOPICS, headed, tuple(whole), copy, header_limit)
         self._stack = ExitStack()
         self._files: list[_Opened] = []
+        self._runs: list[TimeRuns] = []  # per file, its windows' record times, to learn its strays
+        self._kept: list[tuple[tuple[int, int], int, str] | None] | None = None  # once learnt (``strays_learnt``)
 
     def __enter__(self) -> BagReader:
         try:
@@ -98,8 +100,7 @@ class BagReader:
             raise ValueError("BagReader.read outside its with block: the recording is not open")
         shares = in_turn(progress or _unreported, [opened.size for opened in self._files])
         reads = [opened.read(self.wanted, share, window) for share, opened in zip(shares, self._files, strict=True)]
-        for read in reads if window is None else ():  # a window's read holds too few of a file's times to judge
-            leave_out_strays(read)
+        self._strays(reads, window)
         if len(reads) > 1:
             _placed_among_files(reads)
         streams = merged([stream for read in reads for stream in read.stamped])
@@ -121,6 +122,29 @@ class BagReader:
             concat_sent([read.sent for read in reads]),
             reads[0].room if len(reads) == 1 else None,
         )
+
+    def strays_learnt(self) -> bool:
+        """Whether, its windows each read once since it was opened, some of a file's messages lay decades from
+        the rest of its own (``strays``): from then on each window's read leaves them out and says so once, as a
+        whole read does (a window's read alone holds too few of a file's times to judge)."""
+        self._kept = [runs.strays() for runs in self._runs] if self._runs else None
+        self._runs = []
+        return any(self._kept or ())
+
+    def _strays(self, reads: Sequence[FileRead], window: RecordWindow | None) -> None:
+        """The strays of ``reads`` left out (a whole read's, or a window's once learnt), or the windows' times
+        gathered to learn them (``strays_learnt``)."""
+        if window is None:
+            for read in reads:
+                leave_out_strays(read)
+        elif self._kept is not None:
+            for read, kept in zip(reads, self._kept, strict=True):
+                if kept is not None:
+                    leave_out_of_window(read, *kept, described=window.first >= window.last)
+        else:
+            self._runs = self._runs or [TimeRuns() for _ in reads]
+            for runs, read in zip(self._runs, reads, strict=True):
+                runs.add(read)
 
     def _open(self, location: str) -> _Opened:
         files = self._stack.enter_context(open_files(location))

@@ -12,6 +12,7 @@ import numpy as np
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch
 from tftools.sources import user_files
+from tftools.sources.bag.apart import TfTimes
 from tftools.sources.bag.contents import BagFileInfo, in_record_order, merged_clock
 from tftools.sources.bag.messages import MessageSet
 from tftools.sources.codecs.select import Unread, unread_lines
@@ -35,7 +36,7 @@ class FileRead:
     description, its recorded clock, its sensor data's headers (and one line per topic whose headers
     could not be read), the messages read whole and, for a ROS 2 bag, the QoS its publishers offered."""
 
-    __slots__ = ("batches", "clock", "info", "qos", "room", "sent", "stamped", "stamped_problems", "whole")
+    __slots__ = ("batches", "clock", "info", "qos", "room", "sent", "stamped", "stamped_problems", "tf_times", "whole")
 
     def __init__(
         self,
@@ -48,8 +49,10 @@ class FileRead:
         qos: OfferedQos | None = None,
         sent: SentMessages | None = None,
         room: Spare | None = None,
+        tf_times: list[TfTimes] | None = None,
     ) -> None:
         self.batches = batches
+        self.tf_times = [] if tf_times is None else tf_times  # ``MessageSet.tf_times``: for ``strays`` to count
         self.room = room  # the buffer's block for the transforms, brought in as they were read
         self.sent = SentMessages.empty() if sent is None else sent
         self.info = info
@@ -170,7 +173,18 @@ def file_result(path: Path, fmt: str, scans: Sequence[FileScan], labels: Sequenc
     )
     sent = concat_sent([scan.messages.sent for scan in scans])
     room = scans[0].messages.room if len(scans) == 1 else None  # several: each brought in a part of it
-    return FileRead(batches, info, merged_clock(clocks), merged(stamped), stamped_problems, whole, sent=sent, room=room)
+    tf_times = [times for scan in scans for times in scan.messages.tf_times]
+    return FileRead(
+        batches,
+        info,
+        merged_clock(clocks),
+        merged(stamped),
+        stamped_problems,
+        whole,
+        sent=sent,
+        room=room,
+        tf_times=tf_times,
+    )
 
 
 def record_times(batches: Sequence[TransformBatch]) -> Int64Array:

@@ -28,6 +28,7 @@ from tftools.sources.bag.mcap.records import (
     ChunkIndex,
     Salvaged,
     chunk_records,
+    held,
     records,
     scan_records,
 )
@@ -170,7 +171,7 @@ def summary_of(source: ByteSource) -> Summary | None:
                 body = Body(content)
                 count = body.int(I64)
                 body.pos += 2 + 4 * 4  # schema, channel, attachment, metadata and chunk counts
-                summary.statistics = (max(0, count), body.int(I64), body.int(I64))
+                summary.statistics = (max(0, count), held(body.int(U64)), held(body.int(U64)))
     except DamageError:
         return None
     return summary
@@ -187,7 +188,7 @@ def chunks_compressed(path: Path) -> bool:
 def _chunk_index(content: bytes, size: int) -> ChunkIndex:
     """A chunk index of a file of ``size`` bytes; ``DamageError`` where it cannot be trusted."""
     body = Body(content)
-    message_start, message_end = body.int(I64), body.int(I64)
+    message_start, message_end = held(body.int(U64)), held(body.int(U64))
     offset, length = body.int(U64), body.int(U64)
     entries = body.bytes(U32)
     if len(entries) % _ID_OFFSET.size:

@@ -7,6 +7,7 @@ from collections.abc import Callable
 import numpy as np
 
 from tftools.core.arrays import BoolArray, Int64Array, UInt8Array
+from tftools.core.time import TIME_MAX
 from tftools.sources.bag.mcap.records import (
     CHUNK,
     CHUNK_HEAD,
@@ -133,7 +134,8 @@ def indexed(entries: list[tuple[int, int, bytes]]) -> Spans:
     table = np.frombuffer(b"".join(part for _, _, part in entries), INDEX_ENTRY)
     offsets = table["offset"].astype(np.int64)  # an offset past 2**63 turns negative: caught as outside
     chunk, channel = (np.repeat(np.array([e[i] for e in entries], np.int64), counts) for i in (0, 1))
-    return Spans(chunk, offsets, channel, table["time"].astype(np.int64), offsets, offsets)
+    times = np.minimum(table["time"], TIME_MAX).astype(np.int64)  # past 2262: damage, held as TIME_MAX
+    return Spans(chunk, offsets, channel, times, offsets, offsets)
 
 
 def _is_head_of(data: UInt8Array, at: int, chunk: ChunkIndex) -> bool:

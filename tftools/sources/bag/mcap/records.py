@@ -5,6 +5,7 @@ from __future__ import annotations
 import struct
 import zlib
 
+from tftools.core.time import TIME_MAX
 from tftools.sources.bag.damage import DamageError
 from tftools.sources.bag.formats import MCAP
 from tftools.sources.bag.scan import FileScan
@@ -17,11 +18,14 @@ MAGIC = MCAP.magic
 HEADER, FOOTER, SCHEMA, CHANNEL, MESSAGE, CHUNK = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
 MESSAGE_INDEX, CHUNK_INDEX, STATISTICS, DATA_END = 0x07, 0x08, 0x0B, 0x0F
 RECORD = struct.Struct("<BQ")  # opcode, content length
-# Channel id, sequence, log time, publish time: times are u64 in the format, read signed so that
-# a damaged one (past the year 2262) is still an int64, as every time is in tftools.
-MESSAGE_HEAD = struct.Struct("<HIqq")
+MESSAGE_HEAD = struct.Struct("<HIQQ")  # channel id, sequence, log time, publish time
 U16, U32, U64, I64 = struct.Struct("<H"), struct.Struct("<I"), struct.Struct("<Q"), struct.Struct("<q")
 CHUNK_HEAD = struct.Struct("<QQQI")  # start time, end time, uncompressed size, crc
+
+
+def held(time: int) -> int:
+    """An MCAP time (u64 ns) as tftools holds one: past the year 2262 (beyond an int64, damage), ``TIME_MAX``."""
+    return time if time <= TIME_MAX else TIME_MAX
 
 
 class ChunkIndex:
@@ -264,6 +268,7 @@ def scan_records(data: bytes | memoryview, number: int, channels: Channels, *, c
             break
         if opcode == MESSAGE:
             channel_id, _, log_time, _ = MESSAGE_HEAD.unpack_from(data, start)
+            log_time = held(log_time)
             times.append(log_time)
             if channel_id in channels.wanted:
                 log_times, positions, payloads = found.setdefault(channel_id, ([], [], []))

@@ -20,6 +20,7 @@ from tftools.sources.bag.mcap.records import (
     Channels,
     Salvaged,
     chunk_records,
+    held,
     known,
     scan_records,
 )
@@ -106,6 +107,7 @@ class _Stream:
         if length < MESSAGE_HEAD.size:
             raise DamageError("message record too short")
         channel_id, _, log_time, _ = MESSAGE_HEAD.unpack(self.f.read(MESSAGE_HEAD.size))
+        log_time = held(log_time)
         self.channels.result.note_times(log_time, log_time, 1)
         rest = length - MESSAGE_HEAD.size
         target = self.channels.wanted.get(channel_id)

@@ -253,8 +253,13 @@ def _qos(path: Path, stored: Files, info: dict[str, Any] | None, problems: list[
         for entry in info.get("topics_with_message_count") or []:
             topic = entry["topic_metadata"]
             profiles = topic.get("offered_qos_profiles") or []
-            offered = list(user_files.load_text(profiles) or []) if isinstance(profiles, str) else list(profiles)
-            counts[str(topic["name"])] = (int(entry.get("message_count") or 0), len(offered))
+            offered = user_files.load_text(profiles) or [] if isinstance(profiles, str) else profiles
+            count = int(entry.get("message_count") or 0)
+            if not isinstance(offered, list) or not all(isinstance(p, dict) for p in offered):
+                raise ValueError(f"offered_qos_profiles of {topic['name']} is no list of profiles: {profiles!r:.60}")
+            if count < 0:
+                raise ValueError(f"message_count of {topic['name']} is {count}")
+            counts[str(topic["name"])] = (count, len(offered))
             if is_static_topic(str(topic["name"])):
                 found[str(topic["name"])] = offered
         return OfferedQos(found, counts=counts)

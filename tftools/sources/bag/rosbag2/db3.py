@@ -205,7 +205,8 @@ def _messages(
     table = "messages NOT INDEXED"
     if window is not None:
         table = "messages"
-        conditions += [f"timestamp >= {int(window.first)}", f"timestamp < {int(window.last)}"]
+        below = "<=" if window.closed else "<"
+        conditions += [f"timestamp >= {int(window.first)}", f"timestamp {below} {int(window.last)}"]
     where = " AND ".join(c for c in (*conditions, db.typed.removeprefix(" AND ")) if c)
     query = f"SELECT topic_id, timestamp, id, {data} FROM {table}" + (f" WHERE {where}" if where else "")
     unpack = result.messages.unpack
@@ -308,13 +309,17 @@ def _salvage(path: Path, channels: dict[int, int], headers: set[int], result: Fi
     result.windowed = False
     if not read:
         raise CorruptBagError(str(path), f"no message could be read ({damage})")
-    if not result.message_count:  # the statistics could not be read either
+    counted = result.message_count  # by sqlite, 0 where it could not count them
+    if not counted:
         result.message_count, result.start, result.end = found.count, found.start, found.end
     lost = f", {found.lost} more lost their data" if found.lost else ""
+    # every message sqlite counted is in the pages: the header's count of pages is what is damaged
+    whole = counted and not found.lost and not found.missing and found.count == counted
     result.note_problem(
         f"the database is damaged ({damage}): read the {read} messages its intact pages hold of the topics read"
-        f"{lost}; those in missing or damaged pages are lost"
-    )
+        + (f"; all {found.count:,} messages its statistics count are there, none lost" if whole else
+           f"{lost}; those in missing or damaged pages are lost")
+    )  # fmt: skip
     return found
 
 
