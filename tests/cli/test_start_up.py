@@ -81,6 +81,16 @@ def test_tfx_wtf_loads_dask_only_for_dask() -> None:
     assert loaded(modules, ("dask", "distributed")) == []
 
 
+@pytest.mark.parametrize("argv", [["wtf"], ["view-frames", "-f", "dot", "-o", "-"]])
+def test_the_checks_on_a_sample_import_no_numpy_ma(argv: list[str]) -> None:
+    """``np.unique``'s first call imports numpy.ma (~10 ms of CPU): the checks' distinct values on the sample bag's
+    path (each edge's publishers, stamps and repeated stamps) are found without it."""
+    command = ["tfx", *argv[:1], "-b", str(SAMPLE_BAGS["ros1"]), *argv[1:]]
+    modules = modules_after(f"import sys; sys.argv = {command!r}; from tftools.cli.app import main; main()")
+    assert "tftools.analysis.wtf" in modules
+    assert loaded(modules, ("numpy.ma",)) == []
+
+
 #: What no help needs: the arrays, the analyses, the readers, Graphviz.
 NOT_FOR_HELP = ("numpy", "graphviz", "matplotlib", "tftools.analysis", "tftools.sources.bag", "tftools.sources.live")
 

@@ -18,6 +18,7 @@ from tftools.analysis.wtf.static_senders import Sender, StaticSenders, static_se
 from tftools.core.arrays import IntpArray
 from tftools.core.figures import HELD_DEG, HELD_M, apart, held_groups, held_parts, rate_hz
 from tftools.core.time import NS_PER_S
+from tftools.sources.codecs.gather import distinct
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
 STATIC_MIN_SAMPLES = 10
@@ -97,7 +98,7 @@ def _mark_moving(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
     if (values == values[0]).all():
         return True
     authority = rows.authority[mine]
-    publishers = np.unique(authority)
+    publishers = distinct(authority.astype(np.int64))
     for who in publishers:
         own = values if len(publishers) == 1 else values[authority == who]
         if not (own == own[0]).all():
