@@ -110,12 +110,13 @@ def _joint_at_rest(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
     """Whether the ``mine`` rows are a movable joint that did not move: sent by robot_state_publisher
     (which sends fixed joints on /tf_static), or mostly in messages that also carried moving edges
     (transforms of one publisher with the same record time and stamp: one message)."""
-    if any(rows.authorities[int(a)].endswith("robot_state_publisher") for a in np.unique(rows.authority[mine])):
+    publishers = distinct(rows.authority[mine].astype(np.int64))
+    if any(rows.authorities[int(a)].endswith("robot_state_publisher") for a in publishers):
         return True
     if not (rows.record_time[mine] > 0).all():
         return False
     together = np.zeros(len(mine), bool)
-    for authority in np.unique(rows.authority[mine]):
+    for authority in publishers:
         theirs = rows.authority[mine] == authority
         others = np.flatnonzero(moving & (rows.authority.whole() == authority))
         keys = _message_keys(rows, mine[theirs])
