@@ -88,33 +88,41 @@ def lookup_times(count: int, seconds: int) -> list[int]:
     return [first + (k * 7_919_000_017) % span for k in range(count)]
 
 
-def per_call(action, items) -> float:
-    began = time.perf_counter()
+def per_call(action, items) -> tuple[float, float]:
+    """Seconds a call, wall and CPU (as tf2_side's)."""
+    cpu, began = time.process_time(), time.perf_counter()
     for item in items:
         action(item)
-    return (time.perf_counter() - began) / len(items)
+    return (time.perf_counter() - began) / len(items), (time.process_time() - cpu) / len(items)
 
 
 def lookups(path: str, count: int, seconds: int) -> dict:
     buffer = read_recording([path]).buffer
     target, source = robot.TARGET, robot.SOURCE
     times = lookup_times(count, seconds)
-    lookup_s = per_call(lambda t: buffer.lookup(target, source, t), times)
-    can_s = per_call(lambda t: buffer.can_transform(target, source, t), times)
+    lookup_s, lookup_cpu_s = per_call(lambda t: buffer.lookup(target, source, t), times)
+    can_s, can_cpu_s = per_call(lambda t: buffer.can_transform(target, source, t), times)
     many = random_times(seconds)
     buffer.lookup_many(target, source, many[:10])
-    result = {"lookup_s": lookup_s, "can_transform_s": can_s}
+    result = {
+        "lookup_s": lookup_s,
+        "lookup_cpu_s": lookup_cpu_s,
+        "can_transform_s": can_s,
+        "can_transform_cpu_s": can_cpu_s,
+    }
     for order, asked in (("random", many), ("sorted", np.sort(many))):
         began = time.perf_counter()
         got = buffer.lookup_many(target, source, asked)
         result[f"lookup_many_{order}_s"] = (time.perf_counter() - began) / BATCH
         assert got.valid.all()
     first = [buffer.lookup(target, source, t).translation for t in times[:1000]]
-    return {**result, "set_transform_s": set_transform_per_call(seconds), "checksum": float(np.sum(first))}
+    set_s, set_cpu_s = set_transform_per_call(seconds)
+    result |= {"set_transform_s": set_s, "set_transform_cpu_s": set_cpu_s}
+    return {**result, "checksum": float(np.sum(first))}
 
 
-def set_transform_per_call(seconds: int) -> float:
-    """One ``Buffer.set_transform`` call's time, on tf2_side's transforms built beforehand."""
+def set_transform_per_call(seconds: int) -> tuple[float, float]:
+    """One ``Buffer.set_transform`` call's time, wall and CPU, on tf2_side's transforms built beforehand."""
     calls = [
         (Transform(values[:3], values[3:], stamp, parent, child), callerid)
         for parent, child, stamp, values, callerid in robot.dynamic_transforms(seconds, SET_CALLS)

@@ -19,8 +19,9 @@ unmeasured warm-up run of every side; ``--compile-each-run`` measures as before,
 
 Every run's own figures are kept, both sides', with the CPU time of the same span where there is one (the
 whole script and ``tfx frames``: the child process's; the ingest and first load: the measured span's, from
-within; the ingest's also the time it waited for a CPU and the machine's steal time, ``spent.py``; the batch's,
-per time, its threads' CPU time over their count, so that on free cores it is about the wall time). A span
+within; the calls' (lookup, ``can_transform``, ``set_transform``): their loop's; the ingest's also the time it
+waited for a CPU and the machine's steal time, ``spent.py``; the batch's, per time, its threads' CPU time over
+their count, so that on free cores it is about the wall time). A span
 is disturbed, and named below the table whichever side it is on, where it spent a good part of its wall
 time off the CPU (another process held it, or the disk was read) or took a good deal more CPU time than
 its other runs (the same work slowed by a neighbour's: see ``DISTURBED``); ``--raw`` prints every run's
@@ -125,7 +126,8 @@ def tftools_run(python: str, bags: dict[str, Path]) -> Run:
     got = run_json([python, "-c", FIRST_LOAD.format(bag=str(bags["ros1"]))])
     timed(out, "first_load", (got["first_load_s"], got["first_load_cpu_s"]))
     calls = run_json([python, ours, "lookups", str(bags["ros1"]), str(LOOKUPS), str(UNIT_SECONDS)])
-    out.update({key: calls[f"{key}_s"] for key in ("lookup", "can_transform", "set_transform")})
+    for key in ("lookup", "can_transform", "set_transform"):
+        timed(out, key, (calls[f"{key}_s"], calls[f"{key}_cpu_s"]))
     batch(out, run_json([python, ours, "batch", str(bags["ros1"]), str(UNIT_SECONDS)]))
     timed(out, "frames", wall([python, "-m", "tftools", "frames", "-b", str(SAMPLE)]))
     return out
@@ -149,8 +151,9 @@ def tf2_run(bags: dict[str, Path]) -> Run:
     out: Run = {}
     timed(out, "script", wall([ROS_PYTHON, side, "script", str(bags["ros1"])]))
     theirs = run_json([ROS_PYTHON, side, "measure", str(bags["ros1"]), str(LOOKUPS), str(UNIT_SECONDS)])
-    out.update({"lookup": theirs["lookup_s"], "can_transform": theirs["can_transform_s"],
-                "set_transform": theirs["set_transform_s"], "batch": theirs["lookup_s"]})  # fmt: skip
+    for key in ("lookup", "can_transform", "set_transform"):
+        timed(out, key, (theirs[f"{key}_s"], theirs[f"{key}_cpu_s"]))
+    timed(out, "batch", (theirs["lookup_s"], theirs["lookup_cpu_s"]))  # its one lookup, against our batch's per time
     for key in ("first_load", *(f"ingest {fmt}" for fmt in bags)):
         spanned(out, key, theirs, "ingest")  # one ingest, the same in every row
     return out

@@ -62,14 +62,15 @@ def ingest(path):
 
 
 def per_call(action, items):
-    began = time.perf_counter()
+    """Seconds a call, wall and CPU (the CPU time tells a slow call from one another process held off the CPU)."""
+    cpu, began = time.process_time(), time.perf_counter()
     for item in items:
         action(item)
-    return (time.perf_counter() - began) / len(items)
+    return (time.perf_counter() - began) / len(items), (time.process_time() - cpu) / len(items)
 
 
 def set_transform_per_call(seconds):
-    """One ``set_transform`` call's time, on the robot's first moving transforms built beforehand."""
+    """One ``set_transform`` call's time, wall and CPU, on the robot's first moving transforms built beforehand."""
     messages = []
     for parent, child, stamp, values, callerid in robot.dynamic_transforms(seconds, SET_CALLS):
         msg = TransformStamped()
@@ -91,8 +92,9 @@ def measure(path, lookups, seconds):
     first, span = robot.START + robot.NS, (seconds - 2) * robot.NS
     times = [rospy.Time(*divmod(first + (k * 7_919_000_017) % span, robot.NS)) for k in range(lookups)]
     target, source = robot.TARGET, robot.SOURCE
-    lookup_s = per_call(lambda t: core.lookup_transform_core(target, source, t), times)
-    can_s = per_call(lambda t: core.can_transform_core(target, source, t), times)
+    lookup_s, lookup_cpu_s = per_call(lambda t: core.lookup_transform_core(target, source, t), times)
+    can_s, can_cpu_s = per_call(lambda t: core.can_transform_core(target, source, t), times)
+    set_s, set_cpu_s = set_transform_per_call(seconds)
     first = [core.lookup_transform_core(target, source, t).transform.translation for t in times[:1000]]
     print(
         json.dumps(
@@ -102,8 +104,11 @@ def measure(path, lookups, seconds):
                 "ingest_s": ingest_s,
                 **spent,
                 "lookup_s": lookup_s,
+                "lookup_cpu_s": lookup_cpu_s,
                 "can_transform_s": can_s,
-                "set_transform_s": set_transform_per_call(seconds),
+                "can_transform_cpu_s": can_cpu_s,
+                "set_transform_s": set_s,
+                "set_transform_cpu_s": set_cpu_s,
                 "peak_rss_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
             }
         )

@@ -49,12 +49,12 @@ def measure(mcap: str, lookups: int, seconds: int) -> dict:
     tree = tf_tree.build(config(seconds))
     moving = robot.dynamic_transforms(seconds, SET_CALLS)
     calls = [(child, parent, stamp, pose(values)) for parent, child, stamp, values, _ in moving]
-    set_transform_s = per_call(lambda call: tf_tree.push(tree, *call), calls)
+    set_transform_s = per_call(lambda call: tf_tree.push(tree, *call), calls)[0]
     tree = tf_tree.build(config(seconds))
     for parent, child, stamp, values, _ in robot.dynamic_transforms(seconds, 10**12):
         tf_tree.push(tree, child, parent, stamp, pose(values))
     times = lookup_times(lookups, seconds)
-    lookup_s = per_call(lambda t: tree.lookup(robot.TARGET, robot.SOURCE, t), times)
+    lookup_s = per_call(lambda t: tree.lookup(robot.TARGET, robot.SOURCE, t), times)[0]
     result = {"set_transform_s": set_transform_s, "lookup_s": lookup_s}
     plan = tree.plan(robot.TARGET, robot.SOURCE)
     for which in ("first", "next"):

@@ -45,6 +45,7 @@ from tftools.core.figures import (
     time_base_of,
 )
 from tftools.core.time import NS_PER_S
+from tftools.sources.codecs.gather import first_and_inverse
 
 #: A sign must show in this many samples, and this share of them, to tell two broadcasters.
 TURNS_MIN = 5
@@ -585,11 +586,11 @@ def sent_before(stamps: Int64Array, values: FloatArray | Callable[[IntpArray], F
     replays old stamps elsewhere is new data)."""
     if values is None:
         again = np.ones(len(stamps), bool)
-        again[np.unique(stamps, return_index=True)[1]] = False
+        again[first_and_inverse(stamps)[0]] = False
         return again
     # only a stamp carried more than once can carry its value again: those samples' values alone are read
-    _, inverse, counts = np.unique(stamps, return_inverse=True, return_counts=True)
-    shared = np.flatnonzero(counts[inverse] > 1)
+    inverse = first_and_inverse(stamps)[1]
+    shared = np.flatnonzero(np.bincount(inverse)[inverse] > 1)
     del inverse
     again = np.zeros(len(stamps), bool)
     if not len(shared):

@@ -15,6 +15,7 @@ from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, I
 from tftools.core.frames import Names, frame_name
 from tftools.core.history import CHILD_HAD_SLASH, FROM_STATIC_TOPIC, PARENT_HAD_SLASH, EdgeHistory
 from tftools.core.rejection import RejectionCode, code_bits
+from tftools.sources.codecs.gather import distinct
 from tftools.sources.recording import Recording
 
 S = TypeVar("S", bound=np.generic)
@@ -197,7 +198,7 @@ class Rows:
         key = self.names.index(parent) << 32 | self.names.index(child)
         mine = np.flatnonzero((self._edge_keys == key) & ~self.static)
         authority = self.authority[mine]
-        for publisher in np.unique(authority).tolist():
+        for publisher in distinct(authority.astype(np.int64)).tolist():
             yield publisher, mine[authority == publisher]
 
     @cached_property

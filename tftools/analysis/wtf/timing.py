@@ -29,6 +29,7 @@ from tftools.core.figures import delays as delays_of
 from tftools.core.history import old_data
 from tftools.core.semantics import dialect
 from tftools.core.time import NS_PER_S, from_sec
+from tftools.sources.codecs.gather import distinct
 from tftools.sources.timeline import FINE_STEP, seconds_since
 
 #: Stamps going back this far (ns) are a jump in time, never transforms that arrived late.
@@ -468,7 +469,7 @@ def _steady(stamps: Int64Array) -> bool:
     received over Wi-Fi in bursts (intervals of 0 to 0.86 s) publishes regularly, and interpolation between its
     samples is fine; so does a real cart's amcl, stamping map -> odom from its lidar's scans (0.13, 0.13, 0.13 then
     0.26 s apart, over and over) but sending them in bursts once its odometry came (0.9 Hz)."""
-    intervals: Int64Array = np.diff(np.unique(stamps)).astype(np.int64)
+    intervals: Int64Array = np.diff(distinct(stamps)).astype(np.int64)
     if len(intervals) < IRREGULAR_MIN_INTERVALS:
         return False
     return _off_share(intervals) <= IRREGULAR_SHARE or _cyclic(intervals)

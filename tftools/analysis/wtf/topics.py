@@ -18,6 +18,7 @@ from tftools.analysis.wtf.static_senders import Sender, StaticSenders, static_se
 from tftools.core.arrays import IntpArray
 from tftools.core.figures import HELD_DEG, HELD_M, apart, held_groups, held_parts, rate_hz
 from tftools.core.time import NS_PER_S
+from tftools.sources.codecs.gather import distinct
 
 #: A /tf edge is "static" only when it repeats one value this many times, this often, this long.
 STATIC_MIN_SAMPLES = 10
@@ -97,7 +98,7 @@ def _mark_moving(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
     if (values == values[0]).all():
         return True
     authority = rows.authority[mine]
-    publishers = np.unique(authority)
+    publishers = distinct(authority.astype(np.int64))
     for who in publishers:
         own = values if len(publishers) == 1 else values[authority == who]
         if not (own == own[0]).all():
@@ -109,12 +110,13 @@ def _joint_at_rest(rows: Rows, mine: np.ndarray, moving: np.ndarray) -> bool:
     """Whether the ``mine`` rows are a movable joint that did not move: sent by robot_state_publisher
     (which sends fixed joints on /tf_static), or mostly in messages that also carried moving edges
     (transforms of one publisher with the same record time and stamp: one message)."""
-    if any(rows.authorities[int(a)].endswith("robot_state_publisher") for a in np.unique(rows.authority[mine])):
+    publishers = distinct(rows.authority[mine].astype(np.int64))
+    if any(rows.authorities[int(a)].endswith("robot_state_publisher") for a in publishers):
         return True
     if not (rows.record_time[mine] > 0).all():
         return False
     together = np.zeros(len(mine), bool)
-    for authority in np.unique(rows.authority[mine]):
+    for authority in publishers:
         theirs = rows.authority[mine] == authority
         others = np.flatnonzero(moving & (rows.authority.whole() == authority))
         keys = _message_keys(rows, mine[theirs])

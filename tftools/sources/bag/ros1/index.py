@@ -142,7 +142,7 @@ def replay_order(bag: BagFile, infos: list[ChunkInfo], index_pos: int) -> tuple[
     time, conn = every.time[order], every.channel[order]
     if not _transform_ties(time, conn, bag.transform_connections):
         return None
-    connections = np.unique(conn)
+    connections = distinct(conn)
     places = view_order([time[conn == c] for c in connections.tolist()])
     place = np.empty(len(order), np.int64)
     for c, placed in zip(connections.tolist(), places, strict=True):
