@@ -4,7 +4,7 @@ it (``analysis.tree_file``), and the tolerances within which ``--expect`` and ``
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
@@ -218,36 +218,47 @@ def sent_together(buffer: Buffer, frames: dict[str, FrameShape]) -> list[tuple[s
     they came in, each group in ``frames``' order: edges of one message share its record time, stamp and
     publisher, so edges that came in the same messages share all three in every sample. An edge sent alone is a
     group of one; none where the recording has no record times."""
-    groups: dict[tuple[int, int], list[str]] = {}
-    for name, f in frames.items():
-        hist = buffer.history(name)
-        if f.static or hist is None or len(hist) < 2:
-            continue
-        mine = hist.parents == hist.latest_parent
-        records, stamps = hist.record_times[mine], hist.stamps[mine]
-        if len(records) and records.min() > 0:
-            order = np.lexsort((stamps, records))
-            sent = np.stack([records[order], stamps[order], hist.authorities[mine][order].astype(np.int64)])
-            groups.setdefault((len(records), hash(sent.tobytes())), []).append(name)
-    return [tuple(names) for names in groups.values()]
+
+    def sent(records: Int64Array, stamps: Int64Array, sources: Int64Array) -> Int64Array | None:
+        if not len(records) or records.min() <= 0:
+            return None
+        order = np.lexsort((stamps, records))
+        return np.stack([records[order], stamps[order], sources[order]])
+
+    return _grouped(buffer, frames, sent)
 
 
 def stamped_together(buffer: Buffer, frames: dict[str, FrameShape]) -> list[tuple[str, ...]]:
     """The moving edges of ``frames`` (from their latest parents, seen twice or more) grouped by their stamps and
     sources: edges that share every stamp, each stamp from the same source (the node, or where the recording names
     none, the topic), whether or not they came in the same messages. Each group in ``frames``' order."""
-    groups: dict[tuple[int, int], list[str]] = {}
+
+    def stamped(records: Int64Array, stamps: Int64Array, sources: Int64Array) -> Int64Array | None:
+        if stamps.min() == stamps.max():  # one stamp throughout (a fixed transform stamped 0) tells no source
+            return None
+        order = np.lexsort((sources, stamps))
+        return np.stack([stamps[order], sources[order]])
+
+    return _grouped(buffer, frames, stamped)
+
+
+def _grouped(
+    buffer: Buffer,
+    frames: dict[str, FrameShape],
+    samples: Callable[[Int64Array, Int64Array, Int64Array], Int64Array | None],
+) -> list[tuple[str, ...]]:
+    """The moving edges of ``frames`` (from their latest parents, seen twice or more) grouped where ``samples``
+    (of an edge's record times, stamps and sources) gives the same array, each group in ``frames``' order; an
+    edge for which it gives None is in no group."""
+    groups: dict[tuple[tuple[int, ...], int], list[str]] = {}  # by a hash: an edge's samples are not held twice
     for name, f in frames.items():
         hist = buffer.history(name)
         if f.static or hist is None or len(hist) < 2:
             continue
         mine = hist.parents == hist.latest_parent
-        stamps, sources = hist.stamps[mine], hist.authorities[mine].astype(np.int64)
-        if stamps.min() == stamps.max():  # one stamp throughout (a fixed transform stamped 0) tells no source
-            continue
-        order = np.lexsort((sources, stamps))
-        stamped = np.stack([stamps[order], sources[order]])
-        groups.setdefault((len(stamps), hash(stamped.tobytes())), []).append(name)
+        found = samples(hist.record_times[mine], hist.stamps[mine], hist.authorities[mine].astype(np.int64))
+        if found is not None:
+            groups.setdefault((found.shape, hash(found.tobytes())), []).append(name)
     return [tuple(names) for names in groups.values()]
 
 
