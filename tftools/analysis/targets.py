@@ -18,11 +18,18 @@ NO_TREE = "no transforms, so no tree to transform it into"
 
 def default_target(tree: FrameTree) -> tuple[str, str]:
     """The frame sensor data is usually transformed into: ``odom`` or ``map`` where REP 105's frames
-    exist (odom, where both do: what a costmap or a scan matcher asks for), else the largest tree's root;
-    "" where there is no tree (``NO_TREE``)."""
+    exist (odom, where both do: what a costmap or a scan matcher asks for), or the one robot's namespaced
+    ones (``cf0/odom``: aerostack2's Crazyflie, whose Gazebo model tree is the larger), else the largest
+    tree's root; "" where there is no tree (``NO_TREE``). Several robots' (``robot_0/odom``, ``robot_1/odom``)
+    name no one frame: the largest tree's root, as where there is none."""
     for frame in ("odom", "map"):
         if frame in tree.frames:
             return frame, f"REP 105's {frame} frame"
+    robots = {name.rpartition("/")[0] for name in tree.frames if base_name(name) in ("odom", "map")}
+    if len(robots) == 1 and (robot := robots.pop()):
+        for frame in (f"{robot}/odom", f"{robot}/map"):
+            if frame in tree.frames:
+                return frame, f"REP 105's {base_name(frame)} frame of the one robot"
     trees = tree.trees()
     if not trees:
         return "", NO_TREE
