@@ -23,6 +23,7 @@ from tftools.analysis.wtf.static_senders import static_senders
 from tftools.analysis.wtf.topics import StaticShared, static_shared
 from tftools.core.arrays import Int64Array, IntpArray
 from tftools.core.time import NS_PER_S
+from tftools.sources.codecs.gather import among, distinct
 
 #: tf2's words when a lookup meets a loop.
 TF2_LOOP = "The tf tree is invalid because it contains a loop."
@@ -352,6 +353,10 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         figures["parents_each_from_other_static_publishers"] = int(_each_from_others(scene, mine))
     elif (split_by_topic := _parents_by_topic(scene, mine)) is not None:
         hint = _mount_twice_hint(scene, child, mine, *split_by_topic)
+    elif (shared := _stamped_under_both(scene, mine)) is not None:
+        hint = _at_once_hint(scene, child, names, shared)
+        figures["stamps_under_both"] = shared
+        message += f"; {counted(shared, 'stamp')} came under both"
     elif scene.publishers_known and not set.intersection(*map(set, publishers)):
         hint = (
             f"{child} can have one parent only, and these publishers fight over it: lookups jump between trees. "
@@ -375,6 +380,39 @@ def _parents_finding(scene: Scene, child: str, mine: np.ndarray, switches: np.nd
         len(switches),
         figures=figures,
     )
+
+
+def _stamped_under_both(scene: Scene, mine: IntpArray) -> int | None:
+    """How many stamps a frame was sent with under each of its two moving parents, where that is most of each
+    parent's: two sources placing it at once, taking turns in tf2's cache (aerostack2's Crazyflie: Gazebo's pose
+    bridge under cf0 and the estimator under cf0/odom at each of the same 194 stamps); None otherwise (a frame
+    moved from one parent to another, an object picked up)."""
+    rows = scene.rows
+    if rows.static[mine].any():
+        return None
+    stamps = [distinct(rows.stamp[theirs]) for _, theirs in split(mine, rows.parent[mine])]
+    if len(stamps) != 2:
+        return None
+    shared = int(among(stamps[0], stamps[1]).sum())
+    return shared if shared * 2 > min(len(stamps[0]), len(stamps[1])) else None
+
+
+def _at_once_hint(scene: Scene, child: str, parents: list[str], shared: int) -> str:
+    """Two sources placing ``child`` under ``parents`` at the same stamps: a parent that is a root no transform
+    places (a simulator's model frame, a description's root) is where the other's odometry should end."""
+    roots = [p for p in parents if (summary := scene.tree.frames.get(p)) is not None and summary.parent is None]
+    at_once = (
+        f"two sources place {child} at once, so what tf2 answers flips with whichever came last (not an object "
+        "moved between parents)"
+    )
+    if len(roots) == 1:
+        root, other = roots[0], next(p for p in parents if p != roots[0])
+        return (
+            f"{at_once}. {root} is a root no transform places (a simulator's model frame or a description's root, "
+            f"with its own frames beneath): the odometry should end at it ({edge(other, root)}), or one source "
+            f"stop sending {child}"
+        )
+    return f"{at_once}: let one of them send {child}, the other attach elsewhere"
 
 
 def _parents_by_topic(scene: Scene, mine: IntpArray) -> tuple[list[str], list[str]] | None:

@@ -584,11 +584,15 @@ def _old_data(scene: Scene) -> BoolArray:
 
 
 def _streams(scene: Scene, mask: BoolArray) -> Iterator[tuple[str, IntpArray]]:
-    """The ``mask`` rows of each child frame from each of its publishers, in arrival order."""
+    """The ``mask`` rows of each edge from each of its publishers, in arrival order: a child under two parents
+    at once is two streams, each judged on its own (aerostack2's Crazyflie: cf0/base_link from Gazebo's bridge
+    under cf0 and from the estimator under cf0/odom at each of the same stamps, in one ROS 2 bag that names no
+    publisher: each parent's stamps rise, and the stamps repeated across them are ``multiple_parents``')."""
     rows = scene.rows
     for child, frame_rows in rows.by_child(mask):
         for _, theirs in split(frame_rows, rows.authority[frame_rows]):
-            yield child, theirs
+            for _, under_one_parent in split(theirs, rows.parent[theirs]):
+                yield child, under_one_parent
 
 
 def _behind(stamps: Int64Array) -> tuple[Int64Array, BoolArray]:
