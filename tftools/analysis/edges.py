@@ -517,14 +517,17 @@ def _edge(
     )
 
 
-def history_rate(hist: EdgeHistory, near: Int64Array | None = None) -> float:
+def history_rate(hist: EdgeHistory, near: Int64Array | None = None, rows: BoolArray | None = None) -> float:
     """The rate of a frame's whole history as ``edge_stats`` counts an edge's (``figures.rate_of``: on its time
     bases, placed on the record clock); 0 for a static one. Given the stamps of messages that wait for it
     (``near``), the rate of its samples on their clock alone (``figures.base_near``): of an edge two
-    publishers send on clocks 5.8 h apart, the one whose samples those messages can meet."""
+    publishers send on clocks 5.8 h apart, the one whose samples those messages can meet. Given ``rows`` (the
+    samples under one of a re-parented frame's parents, ``edge_rows``), that edge's, as ``edge_stats`` has it."""
     if hist.static:
         return 0.0
     stamps, records = hist.stamps, hist.record_times
+    if rows is not None and rows.any():
+        stamps, records = stamps[rows], records[rows]
     if near is not None:
         mine = base_near(stamps, record_span(records), near)
         stamps, records = (stamps, records) if mine.all() else (stamps[mine], records[mine])

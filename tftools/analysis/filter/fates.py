@@ -62,6 +62,7 @@ from tftools.core.figures import (
     wait_keeping,
 )
 from tftools.core.frames import base_name, frame_name
+from tftools.core.history import EdgeHistory
 from tftools.core.time import NS_PER_S
 from tftools.sources.contents import StampedMessages
 from tftools.sources.timeline import SAME_CLOCK
@@ -328,6 +329,9 @@ def message_fates(
             arrived, stamps, places = messages.record_time[mine], messages.stamp[mine], _message_places(messages, mine)
             judged = _judge(chain, arrived, places, stamps, end, cache_time)
             fate[mine], ready[mine], left[mine], left_place[mine], lag[mine], after[mine], limiting = judged
+            for parent, child in _switching(buffer, chain):
+                answers = _Answers.of(buffer, parent, child, messages.ordered)
+                _under_parent(answers, chain, mine, stamps, places, cache_time, fate, ready, left, left_place)
             before_tf[mine] = (stamps < chain.began) & (stamps != 0)
             predate = (fate[mine] == Fate.BEFORE_RECORDED_TF) & _before(first_tf, stamps, arrived)
             fate[mine[predate]] = Fate.BEFORE_ANY_TF
@@ -399,9 +403,12 @@ def _chains(
         known = buffer.has_frame(frame) and buffer.has_frame(target)
         yield slice(None), Fate.NOT_CONNECTED if known else Fate.UNKNOWN_FRAME
         return
-    except TransformError:
-        yield slice(None), Fate.NOT_CONNECTED
-        return
+    except TransformError:  # apart as the tree ended; through a frame's other parent, joined at some stamps
+        joined = _through_any_parent(buffer, target, frame)
+        if joined is None:
+            yield slice(None), Fate.NOT_CONNECTED
+            return
+        frames = joined
     if not any(_reparented(buffer, f) for f in frames):
         edges = [_edge_of(p, c, buffer, cache_time, buffer_order) for p, c in chain_edges(buffer, frames)]
         yield slice(None), _Chain.of(edges)
@@ -418,6 +425,149 @@ def _chains(
     for path, group in walked.items():
         edges = [_edge_of(p, c, buffer, cache_time, buffer_order) for p, c in _path_edges(buffer, path)]
         yield np.array(group, np.intp), _Chain.of(edges)
+
+
+def _through_any_parent(buffer: Buffer, target: str, frame: str) -> list[str] | None:
+    """The frames from ``frame`` up to an ancestor it shares with ``target`` and down to ``target``, through
+    parents any frame ever had, where one was re-parented (its other parent joins what the tree as it ended keeps
+    apart); None where there is no such ancestor. tf2 walks up from both ends, never down through a child."""
+    parents: dict[str, list[str]] = {}
+    switched = False
+    for child, hist in buffer.histories():
+        parents[child] = [buffer.frame_name(int(p)) for p in sorted_unique(hist.parents.astype(np.int64))]
+        switched |= len(parents[child]) > 1
+    if not switched:
+        return None
+    up_from_frame, up_from_target = _ancestry(parents, frame), _ancestry(parents, target)
+    shared = [f for f in up_from_frame if f in up_from_target]
+    if not shared:
+        return None
+    meet = min(shared, key=lambda f: len(up_from_frame[f]) + len(up_from_target[f]))
+    return up_from_frame[meet] + up_from_target[meet][::-1][1:]
+
+
+def parent_that_joins(buffer: Buffer, target: str, frame: str) -> tuple[str, str] | None:
+    """Where ``frame`` reaches ``target`` only at some stamps: the re-parented frame on its way and the parent
+    under which it joins ``target`` (cf0/base_link and cf0/odom in aerostack2's Crazyflie); None where the way
+    passes no re-parented frame, or there is none."""
+    try:
+        path = buffer.chain(target, frame)
+    except TransformError:
+        path = _through_any_parent(buffer, target, frame) or []
+    for parent, child in _path_edges(buffer, path):
+        if _reparented(buffer, child):
+            return child, parent
+    return None
+
+
+def _ancestry(parents: dict[str, list[str]], frame: str) -> dict[str, list[str]]:
+    """Each frame reachable from ``frame`` by going up to a parent it ever had, with the shortest such path."""
+    paths = {frame: [frame]}
+    queue = [frame]
+    for here in queue:
+        for parent in parents.get(here, ()):
+            if parent not in paths:
+                paths[parent] = [*paths[here], parent]
+                queue.append(parent)
+    return paths
+
+
+def _switching(buffer: Buffer, chain: _Chain) -> list[tuple[str, str]]:
+    """The chain's moving edges whose child has other parents too (the path is one of them)."""
+    found = []
+    for e in chain.edges:
+        hist = buffer.history(e.child)
+        if hist is not None and not hist.static and _reparented(buffer, e.child):
+            found.append((e.parent, e.child))
+    return found
+
+
+#: How many of a frame's samples around a message's stamp ``_Answers.parent_places`` reads at most (a frame's
+#: samples arrive about in stamp order: a handful are ever looked at).
+ANSWER_SAMPLES = 256
+
+
+@dataclass(frozen=True)
+class _Answers:
+    """A re-parented frame's samples as a listener received them, to tell under which parent tf2 answers a
+    stamp at each moment: of the samples held with the newest stamp at or before it, ROS 2's tf2 answers from
+    the one received last (``insertData`` puts a sample before the others of its stamp), ROS 1's from the
+    first (it refuses the others, TF_REPEATED_DATA); between two samples of different parents, from the older
+    (``getData``: no interpolation across parents)."""
+
+    stamps: Int64Array  # sorted, ties in arrival order
+    places: Int64Array  # each sample's arrival place (``_places``)
+    parent_is_path: BoolArray  # each sample's parent is the path's
+    last_wins: bool
+
+    @staticmethod
+    def of(buffer: Buffer, parent: str, child: str, buffer_order: bool) -> _Answers:
+        hist = buffer.history(child)
+        assert hist is not None
+        arrival = np.argsort(hist.sequence, kind="stable")
+        records = np.maximum.accumulate(hist.record_times[arrival])
+        places = np.empty(len(arrival), np.int64)
+        places[arrival] = _places(buffer_order, hist.sequence[arrival], records)
+        order = np.lexsort((places, hist.stamps))
+        path = np.array([buffer.frame_name(int(p)) == parent for p in hist.parents[order].tolist()], np.bool_)
+        return _Answers(hist.stamps[order], places[order], path, buffer.semantics == "ros2")
+
+    def good_from(self, stamp: int, place: int) -> tuple[bool, int]:
+        """Whether tf2 answers ``stamp`` under the path's parent at ``place`` (a message's), and the first later
+        place at which it does (NEVER where it never does, as far as ``ANSWER_SAMPLES`` tells)."""
+        end = int(np.searchsorted(self.stamps, stamp, side="right"))
+        start = max(end - ANSWER_SAMPLES, 0)
+        stamps, places, path = self.stamps[start:end], self.places[start:end], self.parent_is_path[start:end]
+        before = places < place
+        best_stamp, best_path = -1, True  # no sample at or before the stamp yet: the chain's rule decides
+        if before.any():
+            held = np.flatnonzero(before)
+            top = held[stamps[held] == stamps[held].max()]
+            pick = top[np.argmax(places[top])] if self.last_wins else top[np.argmin(places[top])]
+            best_stamp, best_path = int(stamps[pick]), bool(path[pick])
+        now = best_path
+        for k in np.argsort(places, kind="stable").tolist():
+            if places[k] < place or stamps[k] < best_stamp or (stamps[k] == best_stamp and not self.last_wins):
+                continue
+            best_stamp, best_path = int(stamps[k]), bool(path[k])
+            if best_path:
+                return now, int(places[k])
+        return now, NEVER
+
+
+def _under_parent(
+    answers: _Answers,
+    chain: _Chain,
+    mine: IntpArray,
+    stamps: Int64Array,
+    places: Int64Array,
+    cache_time: int,
+    fate: Int8Array,
+    ready: Int64Array,
+    left: Int64Array,
+    left_place: Int64Array,
+) -> None:
+    """Hold back the messages (``mine``, their ``stamps`` and arrival ``places``) that ``_judge`` passed while tf2
+    answered their stamp under another parent than the chain's (aerostack2's Crazyflie: cf0/base_link under cf0
+    and under cf0/odom at each stamp; a twist that came after both, the cf0 one last, never passes into
+    cf0/odom): they pass where it answers under the chain's parent, before their stamp leaves the cache, else
+    never (their frame, at their stamp, in a tree apart from the target)."""
+    dropped = chain.out_the_back(stamps, cache_time)
+    for i, row in enumerate(mine.tolist()):
+        if fate[row] not in (Fate.ON_ARRIVAL, Fate.LATER):
+            continue
+        passed_at = int(places[i]) if fate[row] == Fate.ON_ARRIVAL else int(left_place[row])
+        good_now, good_from = answers.good_from(int(stamps[i]), passed_at)
+        if good_now:
+            continue
+        if good_from < dropped[i]:
+            fate[row], left_place[row] = Fate.LATER, good_from
+            ready[row] = left[row] = int(chain.time_of(np.array([good_from], np.int64))[0])
+        elif dropped[i] != NEVER:
+            fate[row], ready[row], left_place[row] = Fate.OLDER_THAN_CACHE, NEVER, int(dropped[i])
+            left[row] = int(chain.time_of(np.array([dropped[i]], np.int64))[0])
+        else:
+            fate[row], ready[row], left[row], left_place[row] = Fate.NOT_CONNECTED, NEVER, NEVER, NEVER
 
 
 def _reparented(buffer: Buffer, frame: str) -> bool:
@@ -449,10 +599,18 @@ def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int, buffer_or
     records = np.maximum.accumulate(hist.record_times[order])
     stamps = hist.stamps[order]
     newest = np.maximum.accumulate(stamps) if len(stamps) else stamps
-    rate = history_rate(hist)  # on its time bases: a replay's beside a live publisher's are not 7 days apart
+    # on its time bases: a replay's beside a live publisher's are not 7 days apart; a re-parented frame's edge
+    # from ``parent`` alone (aerostack2's Crazyflie: cf0/odom -> cf0/base_link at 83.3 Hz, not the frame's 167.1)
+    rate = history_rate(hist, rows=_under(buffer, hist, parent) if _reparented(buffer, child) else None)
     oldest = _oldest_held(stamps, newest, cache_time)
     places = _places(buffer_order, hist.sequence[order], records)
     return _Edge(parent, child, hist.static, rate, records, newest, oldest, places)
+
+
+def _under(buffer: Buffer, hist: EdgeHistory, parent: str) -> BoolArray:
+    """Which of a frame's samples are under ``parent``."""
+    ids = [int(p) for p in sorted_unique(hist.parents.astype(np.int64)) if buffer.frame_name(int(p)) == parent]
+    return np.asarray(hist.parents == ids[0], np.bool_) if ids else np.zeros(len(hist.parents), np.bool_)
 
 
 def _oldest_held(stamps: Int64Array, newest: Int64Array, cache_time: int) -> Int64Array:
@@ -754,10 +912,13 @@ def _unplaced(buffer: Buffer, stream: StampedMessages, target: str) -> str:
 
 
 def _rate(buffer: Buffer, edge: tuple[str, str] | None, stamps: Int64Array | None = None) -> float:
-    """The rate of ``edge``'s child frame where the messages stamped ``stamps`` wait for it (0 for none, or a
-    static one): of its samples on their time base (``history_rate``), not a blend of two publishers' clocks."""
+    """The rate of ``edge`` where the messages stamped ``stamps`` wait for it (0 for none, or a static one): of its
+    samples on their time base (``history_rate``), not a blend of two publishers' clocks; of a re-parented frame,
+    its samples under the edge's parent alone."""
     hist = None if edge is None else buffer.history(edge[1])
-    return 0.0 if hist is None else history_rate(hist, stamps)
+    if hist is None or edge is None:
+        return 0.0
+    return history_rate(hist, stamps, _under(buffer, hist, edge[0]) if _reparented(buffer, edge[1]) else None)
 
 
 def _rate_all(buffer: Buffer, edge: tuple[str, str] | None, on_their_clock: float) -> float:

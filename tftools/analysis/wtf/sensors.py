@@ -5,7 +5,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterator
 
-from tftools.analysis.filter.fates import TF_LOST
+from tftools.analysis.filter.fates import TF_LOST, parent_that_joins
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.targets import (
     WORLD_FRAMES,
@@ -62,16 +62,27 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             continue
         # Frames tf knows, in a tree of their own: the recording's trees are apart (``disconnected``, which
         # explains this); lookups within that tree work, only those into the target fail.
-        yield Finding(
-            Severity.error,
-            "sensor_frame",
-            f"{s.topic}: {apart} of {s.messages} messages are in {listed(list(s.frame_ids), 3)}, in a tree apart "
-            f"from {_target(scene)}",
-            "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame): every "
-            f"lookup and MessageFilter of this data into {scene.sensors.target} fails (within its own tree they work)",
-            count=apart,
-            figures={"in_a_tree_apart": 1},
-        )
+        frames = listed(list(s.frame_ids), 3)
+        joins = [j for f in s.frame_ids if (j := parent_that_joins(scene.buffer, scene.sensors.target, f))]
+        if joins:  # at other stamps they reach the target: tf2 answered a frame on the way under its other parent
+            (switching, parent), *_ = joins
+            message = (
+                f"{s.topic}: {apart} of {s.messages} messages are in {frames} at stamps where tf2 answers {switching} "
+                f"under another parent than {parent}, in a tree apart from {_target(scene)}"
+            )
+            hint = (
+                f"{switching} has two parents (multiple_parents): lookups and MessageFilters of this data into "
+                f"{scene.sensors.target} fail where tf2 answers it under the other; one parent for it mends them"
+            )
+        else:
+            message = f"{s.topic}: {apart} of {s.messages} messages are in {frames}, in a tree apart from "
+            message += _target(scene)
+            hint = (
+                "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame): every "
+                f"lookup and MessageFilter of this data into {scene.sensors.target} fails (within its own tree they "
+                "work)"
+            )
+        yield Finding(Severity.error, "sensor_frame", message, hint, count=apart, figures={"in_a_tree_apart": 1})
     for missing, topics in unknown_by_frames.items():
         close = {f: difflib.get_close_matches(f, scene.buffer.frames, n=1, cutoff=TYPO_CUTOFF) for f in missing}
         named = listed([f"'{f}'" + (f" (did you mean '{c[0]}'?)" if c else "") for f, c in close.items()], 3)
