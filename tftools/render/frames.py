@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from itertools import pairwise
 from typing import IO, Any
 
 from rich.console import Console
@@ -33,11 +34,22 @@ def _label(f: FrameSummary) -> Text:
             f"  {f.count} samples, {to_sec(f.first_stamp):.3f} → {to_sec(f.last_stamp):.3f} ({lasted})", style="dim"
         )
     if f.edges:  # each parent's samples, as tfx monitor's row of its edge counts them
-        over_time = " → ".join(f"{e.parent} ({e.count})" for e in f.edges)
-        label.append(f"  parents over time (samples): {printable(over_time)}", style="bold red")
+        label.append(f"  {printable(_parents(f.edges))}", style="bold red")
     if len(f.authorities) > 1:
         label.append("  several publishers", style="bold yellow")
     return label
+
+
+def _parents(edges: tuple[ParentEdge, ...]) -> str:
+    """A re-parented frame's parents: one after another (an object picked up), or in turn where their spans overlap
+    (two sources of one frame: aerostack2's Crazyflie's base_link under cf0 and cf0/odom at each stamp), each with
+    its samples and then its own rate (the frame's counts both)."""
+    moving = [e for e in edges if e.rate_hz > 0]
+    overlap = any(a.first_stamp <= b.last_stamp and b.first_stamp <= a.last_stamp for a, b in pairwise(moving))
+    if not overlap:
+        return "parents over time (samples): " + " → ".join(f"{e.parent} ({e.count})" for e in edges)
+    parts = [f"{e.parent} ({e.count}" + (f", {e.rate_hz:.1f} Hz)" if e.rate_hz > 0 else ")") for e in edges]
+    return "parents in turn (samples): " + " ⇄ ".join(parts)
 
 
 #: Deeper frames are drawn at this indent, with their depth written out: a 100,000-frame chain

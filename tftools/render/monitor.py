@@ -123,7 +123,7 @@ def _authorities(authorities: list[AuthorityStats], unnamed: bool = False) -> Fi
             Text("static", style="cyan") if a.static else Text(f"{a.rate_hz:.2f}"),
             *_delay_cells(a.delay_mean, a.delay_max, a.apart),
         ]
-        children = [printable(child) for _, child in a.edges]
+        children = list(dict.fromkeys(printable(child) for _, child in a.edges))  # a frame under two parents: once
         table.add_row(node, *figures, Text(", ".join(children), style="dim"))
         frames = [Text(f"{c}," if k < len(children) - 1 else c, style="dim") for k, c in enumerate(children)]
         rows.append(Row(figures, [Text.assemble(node, ":"), *frames]))

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
 
+from tftools.analysis.edges import edge_rows
 from tftools.analysis.findings import Finding
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.graph import FrameGraph, frame_graph
@@ -152,7 +153,7 @@ def recording_facts(recording: Recording) -> list[tuple[str, str]]:
     clocks = timeline.describe() + _off_clock(recording)
     if len(timeline.clock) and timeline.reference is not Reference.CLOCK:
         clocks += f"; {len(timeline.clock)} messages on {timeline.clock.topic} recorded"
-    edges = [hist.static for _, hist in buffer.histories()]
+    edges = [hist.static for _, _, hist, _ in edge_rows(buffer)]  # an edge per parent, as view-frames counts
     facts = [
         ("Files", ", ".join(recording.paths)),
         ("Format", ", ".join(dict.fromkeys(f.format for f in contents.files))),
