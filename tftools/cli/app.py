@@ -194,22 +194,31 @@ def _ros_arguments() -> None:
     refuse_ros_arguments(words, options_of(words[0]))
 
 
+#: Commands that read one recording with -b and take no recording of their own: a recording given where their
+#: frames (or topics, or nothing) go is read as with -b.
+_READ_WITH_B = ("echo", "monitor", "filter", "frames", "view-frames")
+
+
 def _bag_among_frames() -> None:
-    """``tfx echo map robot.bag``, ``tfx monitor robot.bag``: a bag where a frame or topic goes, no -b; the
-    command would listen to a live system. A ``UsageError`` showing the command line with -b."""
+    """``tfx frames robot.bag``, ``tfx echo map base_link robot.bag``: one recording given without -b, where the
+    command would otherwise listen to a live system or refuse an extra argument, is read as with -b (``sys.argv``
+    gains it: every later step sees the command line it stands for). Several are a ``UsageError`` showing both
+    readings: the parts of one split recording (-b each), or each on its own."""
     from tftools.cli.errors import UsageError
 
     words = sys.argv[1:]
     if (
         not words
-        or words[0] not in ("echo", "monitor", "filter")
+        or words[0] not in _READ_WITH_B
         or any(w.startswith(("-b", "--bag")) for w in words)  # -b X, -bX, --bag X, --bag=X
     ):
         return
     bags = {w for i, w in enumerate(words[1:], 1) if _is_bag(w) and not words[i - 1].startswith("-")}
-    if bags:
-        what = "topic" if words[0] == "filter" else "frame"
-        raise UsageError(f"{sorted(bags)[0]} is a bag, not a {what}", _with_b(words, bags))
+    if len(bags) == 1:
+        sys.argv[1:] = [part for w in words for part in (["-b", w] if w in bags else [w])]
+    elif bags:
+        what = "a topic" if words[0] == "filter" else "a frame" if words[0] in ("echo", "monitor") else "an argument"
+        raise UsageError(f"{sorted(bags)[0]} is a bag, not {what}", _with_b(words, bags))
 
 
 def _is_bag(word: str) -> bool:
