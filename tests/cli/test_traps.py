@@ -45,8 +45,13 @@ def test_a_folder_of_bags_after_b_says_what_to_give(tfx: Tfx, folder: Path, slas
 
 @pytest.mark.parametrize(
     "args",
-    [["frames", "BAG"], ["echo", "map", "odom", "BAG"], ["echo", "BAG", "map", "odom"], ["monitor", "BAG"]]
-    + [["filter", "BAG"]],
+    [
+        ["frames", "BAG"],
+        ["echo", "map", "odom", "BAG"],
+        ["echo", "BAG", "map", "odom"],
+        ["monitor", "BAG"],
+        ["filter", "BAG"],
+    ],
     ids=lambda a: "-".join(a),
 )
 def test_one_bag_without_b_is_read_as_with_it(tfx: Tfx, args: list[str]) -> None:
