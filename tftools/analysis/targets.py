@@ -21,19 +21,33 @@ def default_target(tree: FrameTree) -> tuple[str, str]:
     exist (odom, where both do: what a costmap or a scan matcher asks for), or the one robot's namespaced
     ones (``cf0/odom``: aerostack2's Crazyflie, whose Gazebo model tree is the larger), else the largest
     tree's root; "" where there is no tree (``NO_TREE``). Several robots' (``robot_0/odom``, ``robot_1/odom``)
-    name no one frame: the largest tree's root, as where there is none."""
-    for frame in ("odom", "map"):
-        if frame in tree.frames:
-            return frame, f"REP 105's {frame} frame"
-    robots = {name.rpartition("/")[0] for name in tree.frames if base_name(name) in ("odom", "map")}
-    if len(robots) == 1 and (robot := robots.pop()):
-        for frame in (f"{robot}/odom", f"{robot}/map"):
-            if frame in tree.frames:
-                return frame, f"REP 105's {base_name(frame)} frame of the one robot"
+    name no one frame: the largest tree's root, as where there is none. Where the trees are apart and some
+    move, a REP 105 frame in a smaller tree where nothing moves is no robot's (a real UR5's laser tracker under a
+    tf1 static_transform_publisher's ``map -> tracker_frame``, beside the arm's moving tree under world)."""
     trees = tree.trees()
+    largest = max(sorted(trees), key=lambda root: len(trees[root])) if trees else ""
+    moving = {root for root, members in trees.items() if any(_moves(tree, f) for f in members)}
+    roots = {frame: root for root, members in trees.items() for frame in members}
+
+    def robots(frame: str) -> bool:  # a robot parked (nothing moving) in its own large tree is still one
+        return frame in tree.frames and (not moving or roots.get(frame) in moving or roots.get(frame) == largest)
+
+    for frame in ("odom", "map"):
+        if robots(frame):
+            return frame, f"REP 105's {frame} frame"
+    prefixes = {name.rpartition("/")[0] for name in tree.frames if base_name(name) in ("odom", "map")}
+    if len(prefixes) == 1 and (robot := prefixes.pop()):
+        for frame in (f"{robot}/odom", f"{robot}/map"):
+            if robots(frame):
+                return frame, f"REP 105's {base_name(frame)} frame of the one robot"
     if not trees:
         return "", NO_TREE
-    return max(sorted(trees), key=lambda root: len(trees[root])), "the root of the largest tree"
+    return largest, "the root of the largest tree"
+
+
+def _moves(tree: FrameTree, frame: str) -> bool:
+    summary = tree.frames[frame]
+    return summary.parent is not None and not summary.static and not summary.held
 
 
 def tied_to_tf(stream: StampedMessages) -> bool:
