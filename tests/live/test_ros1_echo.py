@@ -145,6 +145,6 @@ def test_echo_between_separate_trees_says_which_while_it_waits(ros: Ros) -> None
         "hint: sep_marker and sep_odom are in separate trees, sep_marker in sep_camera_root's (2 frames) and sep_odom "
         "in sep_map's (2 frames): no transform heard so far joins them, so no lookup between them succeeds yet; "
         "publish the transform that attaches sep_camera_root to the sep_map tree (a static_transform_publisher for a "
-        "fixed mount, localization for map -> odom), or check the frame names for typos"
+        "fixed mount), or check the frame names for typos"
     ]
     assert "no transform sep_odom <- sep_marker" in result.stderr

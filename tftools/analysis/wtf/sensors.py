@@ -77,10 +77,13 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         else:
             message = f"{s.topic}: {apart} of {s.messages} messages are in {frames}, in a tree apart from "
             message += _target(scene)
+            roots = and_joined(list(dict.fromkeys(_root(scene, frame_name(f)) for f in s.frame_ids if f)))
+            target_root = _root(scene, scene.sensors.target)
             hint = (
-                "connect the two trees (a missing static transform, e.g. base_link -> the sensor's frame): every "
-                f"lookup and MessageFilter of this data into {scene.sensors.target} fails (within its own tree they "
-                "work)"
+                f"join {roots}'s tree to {target_root}'s, where the data's frames hang already (a transform between "
+                f"them: a static_transform_publisher {target_root} -> {roots} where they are fixed to each other, "
+                "localization where one moves in the other): every lookup and MessageFilter of this data into "
+                f"{scene.sensors.target} fails (within its own tree they work)"
             )
         yield Finding(Severity.error, "sensor_frame", message, hint, count=apart, figures={"in_a_tree_apart": 1})
     for missing, topics in unknown_by_frames.items():
@@ -107,6 +110,12 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             missing,
             count=sum(unknown + apart for _, unknown, apart, _ in topics),
         )
+
+
+def _root(scene: Scene, frame: str) -> str:
+    """The root of ``frame``'s tree (itself for a root)."""
+    ancestors = scene.tree.ancestors(frame)
+    return ancestors[-1] if ancestors else frame
 
 
 def statics_missing(scene: Scene, what: str, also: str = "", renamed: str = "") -> str | None:

@@ -310,9 +310,12 @@ def join_hint(roots: list[str], members: dict[str, list[str]], tree: FrameTree) 
     if (hint := _twin_root(roots, members, tree) or _misspelt_root(roots, members)) is not None:
         return hint
     main, other = roots[0], roots[1]
+    # localization's map -> odom only where there is an odom to hang a map on (a real UR5's laser tracker under
+    # 'map' beside the arm's world tree has none)
+    localized = ", localization for map -> odom" if any(base_name(f) == "odom" for f in tree.frames) else ""
     return (
         f"publish the transform that attaches {other} to the {main} tree (a static_transform_publisher for a "
-        "fixed mount, localization for map -> odom), or check the frame names for typos"
+        f"fixed mount{localized}), or check the frame names for typos"
     )
 
 
