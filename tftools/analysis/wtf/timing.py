@@ -453,6 +453,12 @@ def _rhythm(
             message, hint = f"{what} publishes irregularly: {runs[0]}", runs[1]
             yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
             return
+        batches = _batches(intervals, step, usual)
+        if batches is not None:
+            yield Finding(
+                Severity.warning, code, f"{what} {batches}", BATCHED, frames, who, span[0], span[1], len(arrivals)
+            )
+            return
         message = (
             f"{what} publishes irregularly: {_off_share(intervals, step, usual):.0%} of its intervals are more "
             f"than {IRREGULAR:.0%} off the {duration(usual / NS_PER_S)} it keeps up most of the time (from "
@@ -461,6 +467,32 @@ def _rhythm(
         )
         hint = "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
     yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
+
+
+#: ``rate``'s hint for samples received, and stamped, a batch at a time (``_batches``).
+BATCHED = (
+    "a driver that reads its device's samples a batch at a time (a USB or serial packet) and stamps each as it is "
+    "read: lookups between them interpolate across stamps that are not the samples' times; stamp each sample with "
+    "when it was measured (the device's clock, a driver's time-reference option), or send one per batch"
+)
+
+
+def _batches(intervals: Int64Array, step: int, usual: int) -> str | None:
+    """Where most intervals are far shorter than the ``usual`` one and the rest keep it: the samples come a batch
+    at a time (a real Xsens IMU's 200 Hz: 5 or 6 stamped within 2 ms, then 26 ms apart), said as such, not as
+    intervals "off the period it keeps up most of the time"; None otherwise."""
+    off = _off(intervals, step, usual)
+    short = off & (intervals < usual)
+    if short.mean() <= 0.5 or short.sum() < 0.9 * off.sum():
+        return None
+    apart = int((~short).sum())
+    rate = len(intervals) / (float(intervals.sum()) / NS_PER_S) if intervals.sum() else 0.0
+    within = duration(float(intervals[short].max()) / NS_PER_S)
+    return (
+        f"comes in batches: {short.mean():.0%} of its intervals are under {within} (about "
+        f"{len(intervals) / max(apart, 1):.1f} samples at a time), the batches {duration(usual / NS_PER_S)} apart "
+        f"({rate:.1f} Hz on average)"
+    )
 
 
 def _steady(stamps: Int64Array) -> bool:
