@@ -18,7 +18,6 @@ if TYPE_CHECKING:
     from tftools.sources.stream import StreamedRecording
 
 __all__ = [
-    "TIME_FORMS",
     "TIME_SLACK_S",
     "Offset",
     "Stamp",
@@ -27,12 +26,17 @@ __all__ = [
     "played_range",
     "resolve_range",
     "resolve_time",
+    "time_forms",
 ]
 
 #: A time more than this many seconds before or after the recording's tf is refused: a typo, not a question.
 TIME_SLACK_S = 3600.0
 
-TIME_FORMS = "absolute seconds (e.g. 1700000012.5), +S after the first tf stamp or -S before the last"
+
+def time_forms(example: float) -> str:
+    """The forms a time on the command line takes, the absolute one shown by ``example`` (seconds): one on the
+    recording's own clock, not the wall clock's 1.7e9 where its tf is stamped from a robot's boot (a Neato's 617 s)."""
+    return f"absolute seconds (e.g. {example:.1f}), +S after the first tf stamp or -S before the last"
 
 
 @dataclass(frozen=True, slots=True)

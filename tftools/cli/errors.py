@@ -79,7 +79,7 @@ TIME_OPTIONS = {"at": "--at", "start": "--start", "end": "--end"}
 
 
 def _invalid_time(error: InvalidTimeError) -> UsageError:
-    from tftools.analysis.times import TIME_FORMS
+    from tftools.analysis.times import time_forms
 
     option = TIME_OPTIONS.get(error.role, error.role)
     if error.span is None:
@@ -88,7 +88,7 @@ def _invalid_time(error: InvalidTimeError) -> UsageError:
     length = (end - start) / NS_PER_S
     return UsageError(
         f"{option} {error.text} is {error.reason} ({to_sec(start):.3f} to {to_sec(end):.3f}, {length:.3f} s)",
-        f"give {TIME_FORMS}, e.g. {option} +{length / 2:.1f}",
+        f"give {time_forms(to_sec((start + end) // 2))}, e.g. {option} +{length / 2:.1f}",
     )
 
 
