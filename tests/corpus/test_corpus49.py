@@ -66,3 +66,40 @@ def test_the_two_parents_edges_figures_agree_across_commands(corpus: Corpus, tfx
     assert broadcasters.count("cf0/base_link") == 1, broadcasters
     facts = dict(tftools.report(tftools.read_recording([path])).facts)
     assert facts["Frames"] == "19 frames; 16 moving and 2 static transforms"
+
+
+UR5 = "ros1-ur5-real-moveit-laser-tracker-tree-apart-tf1-static-publisher-2019-bag"
+XSENS = "ros1-xsens-mti-imu-alone-stamps-in-batches-2022-bag"
+
+
+def test_the_arms_data_is_checked_in_its_own_tree_and_the_trackers_said_apart(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real UR5's world tree beside its laser tracker's map -> tracker_frame (tf1's static_transform_publisher,
+    one identity). Before: checked in 'map' (REP 105 names it), three errors on the arm's own /wrench, /tool_velocity
+    and /joint_temperature, and /tracker_points, the one stream apart, unnamed; the hints spoke of base_link -> the
+    sensor's frame and of localization's map -> odom, in a recording without odom."""
+    result = tfx("wtf", corpus(BY_ID[UR5]), "--format", "json")
+    (bag,) = json.loads(result.stdout)["bags"]
+    assert bag["sensor_data"]["target"] == "world"
+    (apart,) = [f for f in bag["findings"] if f["code"] == "sensor_frame"]
+    assert apart["message"].startswith("/tracker_points: 200 of 200 messages are in tracker_frame, in a tree apart")
+    assert "a static_transform_publisher world -> map where they are fixed to each other" in apart["hint"]
+    (trees,) = [f for f in bag["findings"] if f["code"] == "disconnected"]
+    assert "map -> odom" not in trees["hint"] and "base_link -> the sensor's frame" not in apart["hint"]
+
+
+def test_an_imus_stamps_in_batches_are_said_as_batches(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real Xsens MTi: 81% of its intervals under 2 ms, the rest about 26 ms. Before: '81% of its intervals are
+    more than 50% off the 0.026 s it keeps up most of the time', hinting at far-apart samples (the largest 0.029 s)."""
+    _, findings = _findings(tfx, corpus(BY_ID[XSENS]))
+    (rate,) = [f for f in findings if f["code"] == "rate"]
+    assert rate["message"] == (
+        "world -> imu_link by /xsens_mti_node comes in batches: 81% of its intervals are under 0.002 s (about 5.4 "
+        "samples at a time), the batches 0.026 s apart (200.2 Hz on average)"
+    )
+
+
+def test_an_absolute_time_example_is_on_the_recordings_own_clock(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The Crazyflie's tf is stamped on simulation time (15.3 to 17.6 s): asked at a wall-clock time, the hint's
+    example of an absolute time was 1700000012.5, itself a wall-clock time, refused the same way."""
+    result = tfx("echo", "cf0", "cf0/rotor_0", "-b", corpus(BY_ID[CRAZYFLIE]), "--at", "1683557378")
+    assert result.code == 2 and "give absolute seconds (e.g. 16.4)" in result.stderr, result.stderr
