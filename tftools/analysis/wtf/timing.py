@@ -486,6 +486,9 @@ def _batches(intervals: Int64Array, step: int, usual: int) -> str | None:
     if short.mean() <= 0.5 or short.sum() < 0.9 * off.sum():
         return None
     apart = int((~short).sum())
+    batches = int(short[0]) + int((short[1:] & ~short[:-1]).sum())  # runs of short intervals
+    if batches < max(3, apart // 2):  # a start-up burst, or a few: in a row, not a batch between each interval
+        return None
     rate = len(intervals) / (float(intervals.sum()) / NS_PER_S) if intervals.sum() else 0.0
     within = duration(float(intervals[short].max()) / NS_PER_S)
     return (
