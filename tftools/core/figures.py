@@ -648,10 +648,11 @@ def held_parts(values: FloatArray) -> tuple[bool, bool]:
     is told in a few passes, its distances and angles computed only where the bounds leave it open."""
     if not len(values):
         return True, True
-    step = np.abs(values[:, :3] - values[0, :3]).max()
+    with np.errstate(over="ignore", invalid="ignore"):  # values near the largest float differ by inf: not held
+        step = np.abs(values[:, :3] - values[0, :3]).max()
+        q = values[:, 3:]
+        change = np.minimum(np.abs(q - q[0]).max(axis=1), np.abs(q + q[0]).max(axis=1)).max()
     t_held = bool(step == 0) or bool(step <= HELD_M and not held_apart(values, values[:1])[0].any())
-    q = values[:, 3:]
-    change = np.minimum(np.abs(q - q[0]).max(axis=1), np.abs(q + q[0]).max(axis=1)).max()
     q_held = bool(change == 0) or bool(
         change <= _TURN_BOUND * math.radians(HELD_DEG) and not held_apart(values, values[:1])[1].any()
     )
