@@ -29,8 +29,9 @@ def default_target(tree: FrameTree) -> tuple[str, str]:
     moving = {root for root, members in trees.items() if any(_moves(tree, f) for f in members)}
     roots = {frame: root for root, members in trees.items() for frame in members}
 
-    def robots(frame: str) -> bool:  # a robot parked (nothing moving) in its own large tree is still one
-        return frame in tree.frames and (not moving or roots.get(frame) in moving or roots.get(frame) == largest)
+    def robots(frame: str) -> bool:  # a robot parked (nothing moving) in a tree as large as any is still one
+        root = roots.get(frame)
+        return root is not None and (not moving or root in moving or len(trees[root]) >= len(trees[largest]))
 
     for frame in ("odom", "map"):
         if robots(frame):
