@@ -28,7 +28,7 @@ def command(
     target: Annotated[
         str | None,
         typer.Option(
-            help="The frame the data is transformed into (default: odom or map, else the tree's root).",
+            help="The frame the data is transformed into (default: odom or map, or cf0/odom, else the tree's root).",
         ),
     ] = None,
     cache: Annotated[float, typer.Option(help="The listener's cache length, seconds (tf2's default 10).")] = 10.0,

@@ -87,8 +87,8 @@ Paths = Annotated[
 Target = Annotated[
     str | None,
     typer.Option(
-        help="Check sensor data (messages with a header) against tf in this frame (default: odom or map, "
-        "else the tree's root).",
+        help="Check sensor data (messages with a header) against tf in this frame (default: odom or map, or "
+        "cf0/odom, else the tree's root).",
     ),
 ]
 Force = Annotated[
