@@ -482,7 +482,7 @@ def _switching(buffer: Buffer, chain: _Chain) -> list[tuple[str, str]]:
     return found
 
 
-#: How many of a frame's samples around a message's stamp ``_Answers.parent_places`` reads at most (a frame's
+#: How many of a frame's samples around a message's stamp ``_Answers.good_from`` reads at most (a frame's
 #: samples arrive about in stamp order: a handful are ever looked at).
 ANSWER_SAMPLES = 256
 
