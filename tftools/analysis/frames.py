@@ -7,10 +7,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from tftools.analysis.edges import parents_in_order, publishers
-from tftools.core.arrays import FloatArray
 from tftools.core.buffer import Buffer
 from tftools.core.figures import held_parts, rate_of, record_span, time_bases
 from tftools.core.history import EdgeHistory
@@ -109,25 +106,6 @@ def _in_turn(depth: int, frames: list[str]) -> list[tuple[int, str, bool]]:
     return [(depth, frame, i == len(ordered) - 1) for i, frame in enumerate(ordered)][::-1]
 
 
-#: ``_held`` compares this many samples at a time: a moving edge is told in its first, a held one of millions in
-#: little memory.
-HELD_CHUNK = 65_536
-
-
-def _held(values: FloatArray) -> bool:
-    """Whether every sample carries the first one's value (``figures.held_parts``), read a chunk at a time."""
-    for start in range(0, len(values), HELD_CHUNK):
-        if not all(held_parts(np.concatenate([values[:1], values[start : start + HELD_CHUNK]]))):
-            return False
-    return True
-
-
-def _latest(hist: EdgeHistory) -> FloatArray:
-    """The values of a re-parented frame's samples under its latest parent."""
-    values: FloatArray = hist.values[hist.parents == hist.latest_parent]
-    return values
-
-
 def frame_tree(recording: Recording) -> FrameTree:
     """``tfx frames -b BAG``: the recording's frames summarised and arranged by their latest parent."""
     return tree_of(recording.buffer)
@@ -156,7 +134,7 @@ def tree_of(buffer: Buffer) -> FrameTree:
             rate_hz=0.0 if hist.static else rate_of(stamps, span, hist.record_times),
             clocks=1 if hist.static else time_bases(stamps, span),
             edges=tuple(_parent_edge(buffer, hist, p) for p in parents) if len(parents) > 1 else (),
-            held=not hist.static and not one and _held(hist.values if len(parents) == 1 else _latest(hist)),
+            held=not hist.static and not one and all(held_parts(hist.values[hist.parents == hist.latest_parent])),
         )
     children: dict[str, list[str]] = {name: [] for name in frames}
     for name, summary in frames.items():

@@ -641,20 +641,35 @@ def held_apart(a: FloatArray, b: FloatArray) -> tuple[BoolArray, BoolArray]:
     return metres > HELD_M, degrees > HELD_DEG
 
 
+#: ``held_parts`` compares this many samples at a time: a moving edge is told in its first chunk, a held one of
+#: millions in little memory.
+HELD_CHUNK = 65_536
+
+
 def held_parts(values: FloatArray) -> tuple[bool, bool]:
     """Whether every row of ``values`` (N x 7) holds the first one's translation, and its rotation (``held_apart``).
     Bounds decide first where they can (a distance is at least its largest component's; a turn of a unit
     quaternion at least twice its largest component's change, either sign): a moving edge of a million samples
-    is told in a few passes, its distances and angles computed only where the bounds leave it open."""
-    if not len(values):
-        return True, True
+    is told in a few passes, its distances and angles computed only where the bounds leave it open; read
+    ``HELD_CHUNK`` rows at a time, stopping once both are told."""
+    t_held = q_held = True
+    for start in range(0, len(values), HELD_CHUNK):
+        t, q = _held_chunk(values[:1], values[start : start + HELD_CHUNK])
+        t_held, q_held = t_held and t, q_held and q
+        if not (t_held or q_held):
+            break
+    return t_held, q_held
+
+
+def _held_chunk(first: FloatArray, values: FloatArray) -> tuple[bool, bool]:
+    """``held_parts`` of the rows ``values`` against the row ``first``."""
     with np.errstate(over="ignore", invalid="ignore"):  # values near the largest float differ by inf: not held
-        step = np.abs(values[:, :3] - values[0, :3]).max()
+        step = np.abs(values[:, :3] - first[0, :3]).max()
         q = values[:, 3:]
-        change = np.minimum(np.abs(q - q[0]).max(axis=1), np.abs(q + q[0]).max(axis=1)).max()
-    t_held = bool(step == 0) or bool(step <= HELD_M and not held_apart(values, values[:1])[0].any())
+        change = np.minimum(np.abs(q - first[0, 3:]).max(axis=1), np.abs(q + first[0, 3:]).max(axis=1)).max()
+    t_held = bool(step == 0) or bool(step <= HELD_M and not held_apart(values, first)[0].any())
     q_held = bool(change == 0) or bool(
-        change <= _TURN_BOUND * math.radians(HELD_DEG) and not held_apart(values, values[:1])[1].any()
+        change <= _TURN_BOUND * math.radians(HELD_DEG) and not held_apart(values, first)[1].any()
     )
     return t_held, q_held
 
