@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tftools.analysis.edges import Edge, chain_edges, history_rate, sorted_unique
+from tftools.analysis.edges import Edge, chain_edges, history_rate, parents_in_order, sorted_unique
 from tftools.analysis.frames import tree_of
 from tftools.analysis.targets import (
     WORLD_FRAMES,
@@ -434,7 +434,7 @@ def _through_any_parent(buffer: Buffer, target: str, frame: str) -> list[str] | 
     parents: dict[str, list[str]] = {}
     switched = False
     for child, hist in buffer.histories():
-        parents[child] = [buffer.frame_name(int(p)) for p in sorted_unique(hist.parents.astype(np.int64))]
+        parents[child] = [buffer.frame_name(p) for p in parents_in_order(hist)]
         switched |= len(parents[child]) > 1
     if not switched:
         return None
@@ -509,8 +509,9 @@ class _Answers:
         places = np.empty(len(arrival), np.int64)
         places[arrival] = _places(buffer_order, hist.sequence[arrival], records)
         order = np.lexsort((places, hist.stamps))
-        path = np.array([buffer.frame_name(int(p)) == parent for p in hist.parents[order].tolist()], np.bool_)
-        return _Answers(hist.stamps[order], places[order], path, buffer.semantics == "ros2")
+        return _Answers(
+            hist.stamps[order], places[order], _under(buffer, hist, parent)[order], buffer.semantics == "ros2"
+        )
 
     def good_from(self, stamp: int, place: int) -> tuple[bool, int]:
         """Whether tf2 answers ``stamp`` under the path's parent at ``place`` (a message's), and the first later
@@ -580,7 +581,7 @@ def _path_edges(buffer: Buffer, frames: Sequence[str]) -> list[tuple[str, str]]:
     edges = []
     for a, b in itertools.pairwise(frames):
         hist = buffer.history(a)
-        parents = {buffer.frame_name(int(p)) for p in np.unique(hist.parents)} if hist is not None else set()
+        parents = {buffer.frame_name(p) for p in parents_in_order(hist)} if hist is not None else set()
         edges.append((b, a) if b in parents else (a, b))
     return edges
 
@@ -609,7 +610,7 @@ def _edge_of(parent: str, child: str, buffer: Buffer, cache_time: int, buffer_or
 
 def _under(buffer: Buffer, hist: EdgeHistory, parent: str) -> BoolArray:
     """Which of a frame's samples are under ``parent``."""
-    ids = [int(p) for p in sorted_unique(hist.parents.astype(np.int64)) if buffer.frame_name(int(p)) == parent]
+    ids = [p for p in parents_in_order(hist) if buffer.frame_name(p) == parent]
     return np.asarray(hist.parents == ids[0], np.bool_) if ids else np.zeros(len(hist.parents), np.bool_)
 
 
