@@ -85,6 +85,11 @@ class FrameTree:
             parent = self.frames[parent].parent if parent in self.frames else None
         return found
 
+    def root_of(self, frame: str) -> str:
+        """The root above ``frame`` by latest parents (``frame`` itself where it has none)."""
+        ancestors = self.ancestors(frame)
+        return ancestors[-1] if ancestors else frame
+
     def walk(self) -> Iterator[tuple[int, str, bool]]:
         """(depth, frame, last) for each frame under a root, depth first, roots and siblings in name
         order (``last``: no sibling follows): a tree's lines top to bottom. Iterative, so a chain of any

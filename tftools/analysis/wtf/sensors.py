@@ -77,8 +77,8 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         else:
             message = f"{s.topic}: {apart} of {s.messages} messages are in {frames}, in a tree apart from "
             message += _target(scene)
-            roots = and_joined(list(dict.fromkeys(_root(scene, frame_name(f)) for f in s.frame_ids if f)))
-            target_root = _root(scene, scene.sensors.target)
+            roots = and_joined(list(dict.fromkeys(scene.tree.root_of(frame_name(f)) for f in s.frame_ids if f)))
+            target_root = scene.tree.root_of(scene.sensors.target)
             hint = (
                 f"join {roots}'s tree to {target_root}'s, where the data's frames hang already (a transform between "
                 f"them: a static_transform_publisher {target_root} -> {roots} where they are fixed to each other, "
@@ -110,12 +110,6 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             missing,
             count=sum(unknown + apart for _, unknown, apart, _ in topics),
         )
-
-
-def _root(scene: Scene, frame: str) -> str:
-    """The root of ``frame``'s tree (itself for a root)."""
-    ancestors = scene.tree.ancestors(frame)
-    return ancestors[-1] if ancestors else frame
 
 
 def statics_missing(scene: Scene, what: str, also: str = "", renamed: str = "") -> str | None:

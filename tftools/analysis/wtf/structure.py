@@ -439,8 +439,7 @@ def _mount_twice_hint(scene: Scene, child: str, mine: IntpArray, on_static: list
     kept = _kept_on_switch(scene, child)
     on_tf_values = scene.rows.values[mine[~scene.rows.static[mine]]]
     if not (on_tf_values == on_tf_values[0]).all():
-        ancestors = scene.tree.ancestors(on_static[0])
-        root = ancestors[-1] if ancestors else on_static[0]
+        root = scene.tree.root_of(on_static[0])
         return (
             f"{child} is under {and_joined(on_static)} on /tf_static (a fixed joint of the robot's description) and "
             f"moves under {and_joined(on_tf)} on /tf (odometry or localization): a frame has one parent, so the "
