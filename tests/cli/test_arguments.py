@@ -19,6 +19,11 @@ def one_line_error(result: Result, *words: str) -> None:
         assert word in result.stderr
 
 
+def test_a_format_not_taken_is_not_suggested(tfx: Tfx) -> None:
+    said = tfx("view-frames", "--yaml")  # its formats are pdf, svg, png, dot
+    assert said.code == 2 and "No such option: --yaml (see tfx view-frames --help)" in said.stderr
+
+
 @pytest.mark.parametrize(
     ("args", "words"),
     [
@@ -110,6 +115,9 @@ def test_latest_and_times_within_the_recording_still_work(tfx: Tfx) -> None:
         (("nope",), ("No such command",)),
         (("echo", "map", "odom", "--time", "5"), ("No such option: --time (did you mean --at? see tfx echo --help)",)),
         (("monitor", "--time", "5"), ("No such option: --time (did you mean --start? see tfx monitor --help)",)),
+        (("monitor", "--json"), ("No such option: --json (did you mean --format json? see tfx monitor --help)",)),
+        (("frames", "--yaml"), ("did you mean --format yaml?",)),
+        (("wtf", "x.bag", "--jsonl"), ("did you mean --format jsonl?",)),
     ],
 )
 def test_wrong_arguments_are_one_line(tfx: Tfx, args: tuple[str, ...], words: tuple[str, ...]) -> None:

@@ -60,6 +60,7 @@ def test_json_schema_with_a_chain(tfx: Tfx) -> None:
         "edges",
         "authorities",
         "publishers_named",
+        "publishers_listed",
         "chain",
         "delays_unavailable",
         "delays_other_clock",
@@ -521,3 +522,18 @@ def test_a_recording_that_names_no_publisher_shows_its_topics_as_topics(tfx: Tfx
     assert ("Node" in text and "names no publisher" not in text) is named, text
     played = tfx("monitor", "-b", SAMPLE_BAGS[sample], "--play", "--rate", "500", "-f", "json").stdout
     assert json.loads(played.splitlines()[-1])["publishers_named"] is named
+
+
+@pytest.mark.parametrize("sample", ["db3", "mcap"])
+def test_what_a_ros2_bag_lists_of_its_publishers_is_said_under_its_topics(tfx: Tfx, sample: str) -> None:
+    """Where a ROS 2 bag names no publisher, monitor said so and stopped, though its metadata.yaml counts each
+    topic's publishers (one offered QoS profile each): it says that count under the topics, and in the JSON. The
+    sample's writer kept one profile for /tf_static and none for /tf: a topic listed with none is left out (its
+    messages are there), not said to have no publisher."""
+    doc = json.loads(tfx("monitor", "-b", SAMPLE_BAGS[sample], "-f", "json").stdout)
+    assert doc["publishers_listed"] == {"/tf_static": {"publishers": 1, "in": "metadata.yaml"}}
+    text = " ".join(tfx("monitor", "-b", SAMPLE_BAGS[sample]).stdout.split())
+    assert "; metadata.yaml lists 1 publisher of /tf_static" in text and "of /tf " not in text, text
+    played = tfx("monitor", "-b", SAMPLE_BAGS[sample], "--play", "--rate", "500", "-f", "json").stdout
+    assert json.loads(played.splitlines()[-1])["publishers_listed"] == doc["publishers_listed"]
+    assert json.loads(tfx("monitor", "-b", SAMPLE_BAGS["ros1"], "-f", "json").stdout)["publishers_listed"] == {}

@@ -324,7 +324,7 @@ def test_arrivals_span_every_stamp_not_only_those_kept() -> None:
 def test_a_long_stream_counts_every_arrival_not_only_those_kept() -> None:
     """Past ``SAMPLES_PER_FRAME`` arrivals a frame's clock is read off every second one, fourth one...;
     its count of arrivals (said in the clock findings) is still every one, as a whole read counts."""
-    summary = _Summary("ros1", [])
+    summary = _Summary("ros1", [], {})
     for window in range(3):
         rows = [_transform("odom", "base_link", SIM + (window * 4000 + i) * NS_PER_S // 50, 0.0) for i in range(4000)]
         stamps = np.array([r.stamp for r in rows], np.int64)

@@ -12,7 +12,7 @@ import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from tftools.cli import version_line
 
@@ -151,10 +151,11 @@ def _usage_error(error: typer.TyperException) -> int:
     return _failed(UsageError(message, _forgotten_bag_option(message) or f"{meant}see {command} --help"))
 
 
-#: Options a user may write for one tfx has: the wrong word, and the right option.
+#: Options a user may write for one tfx has: the wrong word, and the right option (with its value, where it has one).
 _MEANT = {
     "--time": ("--at", "--start"), "--stamp": ("--at", "--start"), "--hz": ("--rate",), "--frequency": ("--rate",),
     "--out": ("--output",), "--wait-time": ("--duration",),  # ROS 2 view_frames' listening time
+    "--json": ("--format json",), "--jsonl": ("--format jsonl",), "--yaml": ("--format yaml",),
 }  # fmt: skip
 
 
@@ -165,11 +166,20 @@ def _meant_option(message: str, command: object) -> tuple[str, str]:
     if found is None:
         return message, ""
     given, possible = found.group(1), found.group(2) or found.group(3) or ""
-    options = {o for param in getattr(command, "params", []) for o in param.opts}
-    meant = [o for o in _MEANT.get(given.split("=")[0], ()) if o in options]
+    options = {o: param for param in getattr(command, "params", []) for o in param.opts}
+    meant = [o for o in _MEANT.get(given.split("=")[0], ()) if _takes(options, *o.split())]
     if meant:
         return f"No such option: {given}", f"did you mean {meant[0]}? "
     return f"No such option: {given}", f"did you mean {possible.replace(', ', ' or ')}? " if possible else ""
+
+
+def _takes(options: dict[str, Any], option: str, value: str = "") -> bool:
+    """Whether the command has ``option``, and it takes ``value`` (among its choices, or named in its help)."""
+    param = options.get(option)
+    if param is None or not value:
+        return param is not None
+    choices = getattr(param.type, "choices", None)
+    return value in choices if choices else value in re.findall(r"\w+", getattr(param, "help", None) or "")
 
 
 def _forgotten_bag_option(message: str) -> str:

@@ -11,6 +11,7 @@ from rich.table import Table
 from rich.text import Text
 
 from tftools.analysis.edges import AuthorityStats, EdgeStats
+from tftools.analysis.listed import Listed
 from tftools.analysis.monitor import ChainStats, MonitorReport
 from tftools.core.figures import Sightings, apart_in_words, seconds, silence_in_words
 from tftools.core.time import NS_PER_S, signed_seconds, to_sec
@@ -108,13 +109,29 @@ UNNAMED = (
 )
 
 
-def _authorities(authorities: list[AuthorityStats], unnamed: bool = False) -> Fitted:
-    """The publishers' table; ``unnamed``: they are the topics the transforms came on, said so."""
+def unnamed_caption(listed: Sequence[tuple[str, Listed]]) -> str:
+    """``UNNAMED``, with what the recording lists of the topics' publishers: "...; metadata.yaml lists 2
+    publishers of /tf_static and 1 publisher of /tf"."""
+    if not listed:
+        return UNNAMED
+    sources = list(dict.fromkeys(n.source for _, n in listed))
+    said = [n.said(topic) for topic, n in listed]
+    if len(sources) == 1:  # the source once: "metadata.yaml lists 2 publishers of /tf_static and 1 publisher of /tf"
+        said = [said[0], *(s.removeprefix(f"{sources[0]} lists ") for s in said[1:])]
+    return f"{UNNAMED}; {' and '.join(said)}"
+
+
+def _authorities(
+    authorities: list[AuthorityStats], unnamed: bool = False, listed: Sequence[tuple[str, Listed]] = ()
+) -> Fitted:
+    """The publishers' table; ``unnamed``: they are the topics the transforms came on, said so with what the
+    recording lists of their publishers (``listed``)."""
     numbers = ("Messages", _MESSAGE_RATE, _DELAY_MEAN, _DELAY_MAX)
     who = "Topic" if unnamed else "Node"
     table = _table("All Broadcasters:", (who,), numbers, ("Frames",))
+    caption = unnamed_caption(listed) if unnamed else ""
     if unnamed:
-        table.caption, table.caption_justify, table.caption_style = UNNAMED, "left", "dim"
+        table.caption, table.caption_justify, table.caption_style = caption, "left", "dim"
     rows = []
     for a in authorities:
         node = Text(printable(a.authority) or "?", style="magenta")
@@ -128,7 +145,7 @@ def _authorities(authorities: list[AuthorityStats], unnamed: bool = False) -> Fi
         frames = [Text(f"{c}," if k < len(children) - 1 else c, style="dim") for k, c in enumerate(children)]
         rows.append(Row(figures, [Text.assemble(node, ":"), *frames]))
     headers = ("Messages", "Msgs/s", "Delay", "Max")
-    return Fitted(table, Lines("All Broadcasters:", headers, f"{who}: frames", rows, UNNAMED if unnamed else ""))
+    return Fitted(table, Lines("All Broadcasters:", headers, f"{who}: frames", rows, caption))
 
 
 def _chain_lines(chain: ChainStats, other_clock: Sequence[str]) -> Text:
@@ -197,7 +214,7 @@ def renderable(
         *_silences(edges),
         *_sightings(edges),
         Text(""),
-        _authorities(report.authorities, report.unnamed),
+        _authorities(report.authorities, report.unnamed, report.listed),
         *_partly_timed(report.authorities),
         *_beyond_edges(report.authorities),
     ]
@@ -350,6 +367,8 @@ def as_dict(report: MonitorReport) -> dict[str, Any]:
         "edges": [_edge_dict(e, report.other_clock, report.damaged_gaps) for e in report.edges],
         "authorities": [_authority_dict(a) for a in report.authorities],
         "publishers_named": not report.unnamed,  # false: each authority is the topic its transforms came on
+        # where none is named: how many publishers of each of those topics the recording's files list, and which
+        "publishers_listed": {topic: {"publishers": n.publishers, "in": n.source} for topic, n in report.listed},
         "delays_unavailable": report.delays_unavailable or None,  # why delays are null, where they all are
         "delays_other_clock": report.other_clock_why or None,  # why those of frames on another clock are null
     }

@@ -28,7 +28,7 @@ from tftools.core.stored import stored_rows
 from tftools.core.transform import Transform
 from tftools.sources.bag import BagReader, ProgressCallback
 from tftools.sources.bag.contents import BagFileInfo, RecordWindow
-from tftools.sources.contents import ClockSamples, RecordingContents, SentMessages
+from tftools.sources.contents import ClockSamples, OfferedQos, RecordingContents, SentMessages
 from tftools.sources.edge_clocks import EdgeClock, edge_clock
 from tftools.sources.recording import no_transforms, semantics_of
 from tftools.sources.replay import Replay
@@ -233,7 +233,7 @@ def stream_recording(
         windows, summary = _first_pass(reader, window_messages, semantics, progress)
         if reader.strays_learnt():  # messages decades from the rest: the pass again without them, said
             windows, summary = _first_pass(reader, window_messages, semantics, progress)
-        contents = RecordingContents([], summary.files, reader.topics)
+        contents = RecordingContents([], summary.files, reader.topics, qos=summary.qos)
         if not summary.transforms:
             raise no_transforms(paths, contents)
     except BaseException:
@@ -261,7 +261,7 @@ def _first_pass(
     """The recording described, cut in windows, each read once into what the replay needs to know of it."""
     described = reader.read(RecordWindow(0, 0))
     windows = _windows(described.files, window_messages)
-    summary = _Summary(semantics or semantics_of(described), described.files)
+    summary = _Summary(semantics or semantics_of(described), described.files, described.qos)
     for index, window in enumerate(windows):
         summary.add(reader.read(window, _share(progress, index, len(windows))))
     return windows, summary
@@ -330,9 +330,10 @@ CLOCK_STEPS = 1000
 class _Summary:
     """What the first pass learns of a recording, window by window, in memory that does not grow with it."""
 
-    def __init__(self, semantics: Semantics, files: Sequence[BagFileInfo]) -> None:
+    def __init__(self, semantics: Semantics, files: Sequence[BagFileInfo], qos: dict[str, OfferedQos]) -> None:
         self.semantics = semantics
         self.files = [dataclasses.replace(f, problems=list(f.problems), transform_count=0) for f in files]
+        self.qos = qos  # the ROS 2 bags' offered QoS, as their metadata (read before any window) says
         self.transforms = 0
         self.frames: list[str] = []
         self.parents: dict[str, tuple[str, bool]] = {}  # each child's latest parent, and whether static

@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -24,6 +24,7 @@ from tftools.analysis.edges import (
     sorted_unique,
 )
 from tftools.analysis.expected import publishers_named
+from tftools.analysis.listed import Listed, listed_publishers
 from tftools.analysis.times import TimeSpec, played_range, resolve_range
 from tftools.core.arrays import Int64Array
 from tftools.core.batch import TransformBatch, concat_batches, take_rows
@@ -33,7 +34,7 @@ from tftools.core.history import EdgeHistory, rows_as_sent
 from tftools.core.semantics import Semantics
 from tftools.core.stored import SENT_COLUMNS
 from tftools.core.time import Clock
-from tftools.sources.contents import SentMessages, concat_sent
+from tftools.sources.contents import OfferedQos, SentMessages, concat_sent
 from tftools.sources.live.base import TickedClock
 from tftools.sources.timeline import ON_RECORD_CLOCK, Timeline
 
@@ -73,6 +74,8 @@ class MonitorReport:
     #: The recording names no publishers (a ROS 2 bag; a ROS 1 bag without callerids): each authority is the topic
     #: its transforms came on, not a node.
     unnamed: bool = False
+    #: Where it names none (a ROS 2 bag): what its files list of each topic's publishers (``listed_publishers``).
+    listed: tuple[tuple[str, Listed], ...] = ()
     #: The edges (parent, child) whose largest gap spans a part of the file that is damaged (``SourceInfo.damaged``):
     #: transforms lost there, not a pause of their publisher.
     damaged_gaps: tuple[tuple[str, str], ...] = ()
@@ -101,9 +104,21 @@ def monitor(recording: Recording, query: MonitorQuery) -> MonitorReport:
     report = monitor_buffer(
         buffer, query.target, query.source, window, unstored=recording.refused, sent=recording.contents.sent
     )
+    unnamed = not publishers_named(recording)
     return dataclasses.replace(
-        report, unnamed=not publishers_named(recording), damaged_gaps=_damaged_gaps(recording, report.edges)
+        report,
+        unnamed=unnamed,
+        listed=listed_of(recording.qos, report.authorities) if unnamed else (),
+        damaged_gaps=_damaged_gaps(recording, report.edges),
     )
+
+
+def listed_of(qos: Mapping[str, OfferedQos], authorities: Sequence[AuthorityStats]) -> tuple[tuple[str, Listed], ...]:
+    """The publishers the recording lists of each topic the transforms came on (its authorities, where it names no
+    publisher), in their order; those no file lists left out, as those it lists none of (a writer that kept no
+    QoS profile, not a recorder that found no publisher: their messages are there)."""
+    found = ((a.authority, listed_publishers(qos, a.authority)) for a in authorities)
+    return tuple((topic, n) for topic, n in found if n is not None and n.publishers)
 
 
 def _damaged_gaps(recording: Recording, edges: Sequence[EdgeStats]) -> tuple[tuple[str, str], ...]:
@@ -290,10 +305,12 @@ class LiveMonitor:
         timeline: Timeline | None = None,
         semantics: Semantics = "ros1",
         unnamed: bool = False,
+        qos: Mapping[str, OfferedQos] | None = None,
     ) -> None:
         """``timeline``: a replayed recording's (``Timeline.played``); none for a live system, whose
         receive times are read off ``clock`` (as coarse as its /clock under use_sim_time). ``unnamed``: a replayed
-        recording names no publishers (``MonitorReport.unnamed``)."""
+        recording names no publishers (``MonitorReport.unnamed``), and ``qos`` what its files list of them
+        (``Recording.qos``)."""
         self.window = window
         self.clock = clock
         self.timeline = timeline
@@ -303,6 +320,7 @@ class LiveMonitor:
         # Keep a little more than the window: samples that arrive late still fall inside it.
         self.buffer = Buffer(cache_time=window + DEFAULT_CACHE_TIME, clock=clock, semantics=semantics)
         self.unnamed = unnamed
+        self.qos = qos or {}
         #: The rows tf2 refused or took again without storing them (ROS 2: an identical sample), as
         #: ``Recording.refused`` holds them: messages that arrived all the same.
         self.unstored: list[TransformBatch] = []
@@ -389,7 +407,8 @@ class LiveMonitor:
                 report = monitor_buffer(self.buffer, target, source, window, unstored=unstored, sent=self.sent)
             except TransformError:  # the chain is not connected (yet): show the rest
                 report = monitor_buffer(self.buffer, window=window, unstored=unstored, sent=self.sent)
-            return dataclasses.replace(report, unnamed=self.unnamed)
+            listed = listed_of(self.qos, report.authorities) if self.unnamed else ()
+            return dataclasses.replace(report, unnamed=self.unnamed, listed=listed)
 
 
 #: The most tf messages a ``LiveMonitor`` holds unjoined between two reports before it forgets those older than
@@ -479,14 +498,14 @@ def monitor_stream(
     from tftools.sources.replay import Replay, follow
     from tftools.sources.stream import StreamedRecording
 
-    unnamed = False
+    unnamed, qos = False, None
     if isinstance(feed, StreamedRecording):
-        unnamed = not any(f.names_publishers for f in feed.contents.files)
+        unnamed, qos = not any(f.names_publishers for f in feed.contents.files), feed.contents.qos
         first, last = played_window(feed, query)
         timeline, semantics = feed.timeline, feed.semantics
         feed = feed.replay(rate=speed, start=first, end=last)
 
-    live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics, unnamed)
+    live_monitor = LiveMonitor(feed.clock, query.window, timeline, semantics, unnamed, qos)
     if isinstance(feed, Replay | LiveSource):
         feed.on_sent = live_monitor.add_sent
     on_batch = (

@@ -27,11 +27,11 @@ import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
+from tftools.analysis.listed import listed_publishers
 from tftools.analysis.wtf.layouts import Layouts, message_layouts
 from tftools.analysis.wtf.scene import Scene, and_joined, duration, edge, listed, transforms
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array, IntpArray
@@ -255,28 +255,9 @@ def repeats_of(stamps: Int64Array, values: FloatArray, arrivals: Int64Array) -> 
     )
 
 
-class Listed(NamedTuple):
-    """How many publishers of a topic a ROS 2 recording lists (one per publisher the recorder found when it
-    began: ``offered_qos_profiles``), and where (``OfferedQos.source``: metadata.yaml, or a bare file's own)."""
-
-    publishers: int
-    source: str
-
-    def said(self, topic: str = "it") -> str:
-        """ "metadata.yaml lists 2 publishers of /tf" (or "the .db3's topics table lists ...")."""
-        return f"{self.source} lists {counted(self.publishers, 'publisher')} of {topic}"
-
-
-def listed_publishers(scene: Scene, topic: str) -> Listed | None:
-    """How many publishers of ``topic`` the recording lists, and where (the most, where several files say);
-    None where no file says."""
-    found = [Listed(qos.counts[topic][1], qos.source) for qos in scene.recording.qos.values() if topic in qos.counts]
-    return max(found) if found else None
-
-
 def _listed_said(scene: Scene, topics: tuple[str, ...]) -> tuple[str, int | None]:
     """ "; metadata.yaml lists 2 publishers of /tf when recording began" where it does."""
-    listed_counts = [(listing, t) for t in topics if (listing := listed_publishers(scene, t)) is not None]
+    listed_counts = [(listing, t) for t in topics if (listing := listed_publishers(scene.recording.qos, t)) is not None]
     if not listed_counts:
         return "", None
     listing, topic = max(listed_counts)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.findings import counted
-from tftools.analysis.wtf.broadcasters import listed_publishers
+from tftools.analysis.listed import listed_publishers
 from tftools.analysis.wtf.scene import Scene
 from tftools.core.arrays import Int32Array, IntpArray
 from tftools.core.time import NS_PER_S
@@ -125,7 +125,8 @@ def _told_apart(scene: Scene, static: IntpArray) -> tuple[IntpArray, Int32Array,
         distinct.add(keys[-1])
         if len(distinct) > MESSAGES_COMPARED:
             return None
-    found = [(n, t) for t in scene.authorities_of(static) if (n := listed_publishers(scene, t)) is not None]
+    qos = scene.recording.qos
+    found = [(n, t) for t in scene.authorities_of(static) if (n := listed_publishers(qos, t)) is not None]
     listed, topic = max(found, default=(None, ""))
     listing = listed.publishers if listed is not None else 0
     said = listed.said(topic) if listed is not None else ""

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
-from tftools.analysis.wtf.broadcasters import listed_publishers
+from tftools.analysis.listed import listed_publishers
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed, transforms
@@ -168,7 +168,7 @@ def dynamic_on_static(scene: Scene) -> Iterator[Finding]:
         who = scene.authorities_of(mine)
         evidence, hint = "", ""
         if senders.inferred:
-            most = max((c for a in who if (c := listed_publishers(scene, a)) is not None), default=None)
+            most = max((c for a in who if (c := listed_publishers(scene.recording.qos, a)) is not None), default=None)
             listed_said = f"; {most.said()}" if most is not None else ""
             evidence = (
                 " (each /tf_static message holds every transform of the one before it, as one "
