@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import dataclasses
+import io
 import re
 from pathlib import Path
 
 import numpy as np
 import pytest
+from rich.console import Console
 
 from tests.analysis.wtf_scenes import (
     DELAY,
@@ -43,6 +45,8 @@ from tftools.analysis.wtf import CHECKS, Scene, findings_of
 from tftools.analysis.wtf.fleet import check
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
+from tftools.render.filter import as_dict as filter_dict
+from tftools.render.filter import renderable as filter_text
 from tftools.sources import read_recording
 from tftools.sources.contents import ClockSamples, StampedMessages
 from tftools.sources.recording import Recording
@@ -250,6 +254,49 @@ def test_a_frame_sharing_a_prefix_with_one_of_the_tree_is_no_misspelling() -> No
     assert scan.message == "/scan: 100 of 100 messages are in frame 'base_scan', which no transform names"
     assert "typo" not in scan.hint
     assert "(did you mean 'camera'?)" in image.message and "typo" in image.hint
+
+
+def _mounts(*children: str) -> TfMessage:
+    return TfMessage("/tf_static", START + DELAY, [_t("base_link", c, START, 0.1) for c in children], "/mounts")
+
+
+def test_data_in_a_frame_whose_mount_the_tree_names_otherwise_is_told_the_two_names() -> None:
+    """A real mapping robot of 2018 (alexbk22/robo_lape, 2018-09-20-19-57-08.bag): /scan in 'laser', /imu/data in
+    '/imu', its static publishers mounting 'base_laser' and 'base_imu', no /tf recorded. Told to record /tf, where
+    its next bag shows the fix: both sides renamed laser_frame and imu_frame. The hint names the tree's frame named
+    like the data's, in wtf and filter alike; with no /tf, odometry's own frame keeps its hint."""
+    rec = recording([_mounts("base_laser", "base_imu")], ros1=True)
+    streams = [sensor("/scan", "laser", 10, 5_000_000), sensor("/imu/data", "/imu", 20, 5_000_000)]
+    scene = Scene(rec, streams=streams)
+    found = {f.frames: f for f in findings_of(scene) if f.code == "sensor_frame"}
+    scan, imu = found[("laser",)], found[("/imu",)]
+    assert scan.hint.startswith("the tree has 'base_laser' (base_link -> base_laser) for 'laser', a frame named like")
+    assert imu.hint.startswith("the tree has 'base_imu' (base_link -> base_imu) for '/imu'")
+    assert "rosbag record" not in scan.hint and "rosbag record" not in imu.hint
+    reports = {r.topic: r for r in scene.sensors.streams}
+    assert reports["/scan"].namesakes == (("laser", "base_laser", "base_link"),)
+    console = Console(width=1000, record=True, file=io.StringIO())
+    console.print(filter_text(scene.sensors))
+    said = console.export_text()
+    assert "no timeout can (the tree has 'base_laser' (base_link -> base_laser) for 'laser'" in said, said
+    topics = {t["topic"]: t for t in filter_dict(scene.sensors)["topics"]}
+    assert topics["/scan"]["namesakes"] == [{"frame_id": "laser", "tree_frame": "base_laser", "parent": "base_link"}]
+
+
+@pytest.mark.parametrize(
+    ("mounts", "data"),
+    [
+        (("front_laser", "rear_laser"), ()),  # two frames named like it: no guess
+        (("base_laser",), ("base_laser",)),  # the one named like it holds data of its own: another sensor's
+        (("laser_link",), ()),  # a control: the one frame named like it, unused
+    ],
+)
+def test_a_namesake_is_said_only_where_one_unused_frame_fits(mounts: tuple[str, ...], data: tuple[str, ...]) -> None:
+    rec = recording([_mounts(*mounts)], ros1=True)
+    streams = [sensor("/scan", "laser", 10, 5_000_000), *(sensor(f"/{d}_data", d, 10, 5_000_000) for d in data)]
+    (found,) = [f for f in findings_of(Scene(rec, streams=streams)) if f.code == "sensor_frame"]
+    assert found.hint.startswith("the tree has 'laser_link'") is (mounts == ("laser_link",)), found.hint
+    assert ("rosbag record /tf /tf_static" in found.hint) is (mounts != ("laser_link",)), found.hint
 
 
 def test_data_in_map_beside_a_tree_without_odom_is_told_the_trees_fixed_frame_not_localization() -> None:

@@ -10,6 +10,7 @@ from rich.table import Table
 from rich.text import Text
 
 from tftools.analysis.filter.fates import FilterReport, StreamReport, Unchecked
+from tftools.analysis.filter.namesakes import renamed_in_words
 from tftools.analysis.targets import is_odometry, odometry_tf_unpublished
 from tftools.core.figures import KEEP, seconds, wait_in_words
 from tftools.core.time import NS_PER_S, duration
@@ -158,6 +159,8 @@ def _advice(s: StreamReport) -> str:
             instead = s.unplaced
         elif most == "unknown_frame" and is_odometry(s.type):  # its frame is its own tf's, not a mount's
             instead = odometry_tf_unpublished(", ".join(repr(f) for f in s.frame_ids), s.children)
+        elif most == "unknown_frame" and s.namesakes:  # its mount under another name
+            instead = renamed_in_words(s.namesakes)
         if s.clock_apart:  # no wait or cache meets a stamp hours from tf's
             instead = clocks_apart(s.clock_apart)
         if s.stamped_zero >= sum(s.reasons.values()):  # every one lost was stamped 0: said below, once
@@ -233,6 +236,8 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
                 "stamped_zero",
             )
         },
+        # its frames no transform names that have a namesake in the tree: its mount under another name, perhaps
+        "namesakes": [{"frame_id": f, "tree_frame": m, "parent": p} for f, m, p in s.namesakes],
     }
 
 

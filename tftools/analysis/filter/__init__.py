@@ -9,16 +9,19 @@ from typing import TYPE_CHECKING
 
 from tftools.analysis.filter.fates import (
     FilterReport,
+    StreamReport,
     TfBegan,
     Unchecked,
     message_fates,
     recording_end,
     stream_report,
 )
+from tftools.analysis.filter.namesakes import namesakes
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.analysis.reading import Reading
 from tftools.analysis.targets import choose_target, tied_to_tf
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
+from tftools.core.frames import frame_name
 from tftools.sources.codecs.select import placed_nowhere
 from tftools.sources.contents import StampedMessages
 from tftools.sources.errors import UNRECORDED, NoStampedDataError
@@ -114,7 +117,8 @@ def filter_streams(
     """``filter_messages`` of ``streams`` against the tf in ``buffer`` (``tree``: its ``tree_of``, if
     already made; ``query.sensor_topics`` not looked at: the streams are those asked about; ``tick``: the
     step of the clock the record times were read off, ``Timeline.record_step``)."""
-    target, reason = choose_target(tree if tree is not None else tree_of(buffer), query.target)
+    tree = tree if tree is not None else tree_of(buffer)
+    target, reason = choose_target(tree, query.target)
     end, began = recording_end(buffer, streams), TfBegan.of(buffer)
     reports, skipped, fates = [], [], {}
     for stream in streams:
@@ -127,4 +131,17 @@ def filter_streams(
         reports.append(
             stream_report(buffer, stream, target, fates[stream.topic], query.wait, query.queue, end, tick, began)
         )
-    return FilterReport(target, reason, query.cache_time, reports, skipped, fates)
+    return FilterReport(target, reason, query.cache_time, _with_namesakes(tree, reports), skipped, fates)
+
+
+def _with_namesakes(tree: FrameTree, reports: list[StreamReport]) -> list[StreamReport]:
+    """Each report of data lost to an unknown frame with that frame's namesakes in the tree (``namesakes``), among
+    the frames no checked data is in."""
+    data_frames = {frame_name(f) for r in reports for f in r.frame_ids if f}
+    out = []
+    for r in reports:
+        missing = [f for f in r.frame_ids if f and frame_name(f) not in tree.frames]
+        found = namesakes(missing, tree.frames, data_frames) if r.reasons.get("unknown_frame") else {}
+        pairs = tuple((data, mount, tree.frames[mount].parent) for data, mount in found.items())
+        out.append(replace(r, namesakes=pairs) if pairs else r)
+    return out

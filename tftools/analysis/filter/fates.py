@@ -759,6 +759,9 @@ class StreamReport:
     # Odometry whose own frame no transform names while another odometry places the robot on tf (``fused_edge``):
     # that estimate's input, its frame needed by nothing.
     fused: bool = False
+    # Of its frames no transform names, those with a namesake in the tree that no data is in (``namesakes``): the
+    # data's frame, the tree's, and the tree's frame's parent (None: a root).
+    namesakes: tuple[tuple[str, str, str | None], ...] = ()
 
     def longest_made_of(self) -> str:
         """Who waited for the edge of the longest wait (``longest_edge``), in words: "7 arrived before its first

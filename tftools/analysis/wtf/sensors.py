@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 
 from tftools.analysis.filter.fates import TF_LOST, parent_that_joins
+from tftools.analysis.filter.namesakes import renamed_in_words
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.targets import (
     WORLD_FRAMES,
@@ -45,6 +46,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
     """One finding per missing frame, however many topics name it: one cause (e.g. the localization that
     publishes map -> odom not recorded: a MiR's /initialpose and /landmark_list in map), said once."""
     unknown_by_frames: dict[tuple[str, ...], list[tuple[str, int, int, int]]] = {}
+    renamed: dict[tuple[str, ...], dict[tuple[str, str, str | None], None]] = {}  # namesakes, in order, once
     odometry: dict[tuple[str, ...], bool] = {}
     children: dict[tuple[str, ...], tuple[str, ...]] = {}  # the child frames odometry in them states
     fused: dict[tuple[str, ...], str] = {}
@@ -56,6 +58,7 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
         missing = tuple(f for f in s.frame_ids if f and not scene.buffer.has_frame(frame_name(f)))
         if unknown:
             unknown_by_frames.setdefault(missing, []).append((s.topic, unknown, apart, s.messages))
+            renamed.setdefault(missing, {}).update(dict.fromkeys(s.namesakes))
             odometry[missing] = odometry.get(missing, True) and is_odometry(s.type)
             children[missing] = tuple(dict.fromkeys(children.get(missing, ()) + s.children))
             fused[missing] = s.unplaced if s.fused and fused.get(missing, s.unplaced) == s.unplaced else ""
@@ -100,7 +103,9 @@ def sensor_frame(scene: Scene) -> Iterator[Finding]:
             # robot_pose_ekf sending odom_combined -> base_footprint: an error told to turn the odometry's tf on.
             severity, hint = Severity.info, f"no transform names it: {fused[missing]}; lookups of this data fail"
         else:
-            hint = _unknown_frame_hint(scene, list(missing), any(close.values()), odometry[missing], children[missing])
+            hint = _unknown_frame_hint(
+                scene, list(missing), any(close.values()), odometry[missing], children[missing], list(renamed[missing])
+            )
             severity, hint = Severity.error, hint + ": every tf lookup and MessageFilter on this data fails"
         yield Finding(
             severity,
@@ -183,15 +188,25 @@ def _no_topic(topics: list[str], what: str, record: str) -> str:
 
 
 def _unknown_frame_hint(
-    scene: Scene, missing: list[str], typo: bool, odometry: bool = False, children: tuple[str, ...] = ()
+    scene: Scene,
+    missing: list[str],
+    typo: bool,
+    odometry: bool = False,
+    children: tuple[str, ...] = (),
+    namesakes: Sequence[tuple[str, str, str | None]] = (),
 ) -> str:
-    """What is missing where sensor data names a frame no transform names: the moving transforms, not
-    recorded or sent empty; else a typo (a frame of the tree is close) or the transform's publisher (of
-    odometry, to the ``children`` it states)."""
+    """What is missing where sensor data names a frame no transform names: its mount under another name (a frame
+    of the tree named like it, ``namesakes``); the moving transforms, not recorded or sent empty; else a typo (a
+    frame of the tree is close) or the transform's publisher (of odometry, to the ``children`` it states)."""
     rows = scene.rows
     moving = [t for t in scene.recording.contents.topics if not is_static_topic(t)]
     recorded = {t for f in scene.recording.contents.files for t in f.topics}
     record = record_command(scene.ros2)
+    if namesakes and not typo and not odometry:
+        # A real mapping robot of 2018 (alexbk22/robo_lape, 2018-09-20-19-57-08.bag): /scan in 'laser' and /imu/data
+        # in '/imu' while its static publishers mount 'base_laser' and 'base_imu', no /tf recorded: told to record
+        # /tf, where its next bag shows the fix, both sides renamed laser_frame and imu_frame.
+        return renamed_in_words(namesakes)
     if not (~rows.static).any() and moving:
         if not recorded & set(moving):
             # 1hada/rosbag-merge's TurtleBot3 Waffle (TB3_WAFFLE_SLAM_odom_tf_static.bag): /odom in odom, /tf_static,
