@@ -19,6 +19,17 @@ def one_line_error(result: Result, *words: str) -> None:
         assert word in result.stderr
 
 
+def test_a_recording_given_to_static_is_told_what_reads_its_statics(tfx: Tfx) -> None:
+    """`tfx static REC` (two scouts, 2026-12-02, on a Neato and a mapping robot's bags) was told "1 arguments:
+    expected 8": it says the argument is a recording, and which commands show, check or repair its statics."""
+    said = tfx("static", SAMPLE_BAGS["ros1"])
+    assert said.code == 2 and said.stderr.count("\n") == 1, said.stderr
+    assert f"{SAMPLE_BAGS['ros1']} is a recording: tfx static publishes the transform its numbers give" in said.stderr
+    assert f"tfx frames {SAMPLE_BAGS['ros1']}" in said.stderr and "tfx static --repair -b" in said.stderr
+    assert "5 arguments: expected 8" in tfx("static", "1", "2", "3", "a", "b").stderr
+    assert "1 argument: expected 8" in tfx("static", "x").stderr
+
+
 def test_a_format_not_taken_is_not_suggested(tfx: Tfx) -> None:
     said = tfx("view-frames", "--yaml")  # its formats are pdf, svg, png, dot
     assert said.code == 2 and "No such option: --yaml (see tfx view-frames --help)" in said.stderr

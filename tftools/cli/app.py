@@ -232,9 +232,9 @@ def _bag_among_frames() -> None:
 
 
 def _is_bag(word: str) -> bool:
-    from tftools.sources.storage.locations import BAG_SUFFIXES, METADATA
+    from tftools.sources.storage.locations import names_a_recording
 
-    return not word.startswith("-") and (word.endswith(BAG_SUFFIXES) or os.path.isfile(os.path.join(word, METADATA)))
+    return names_a_recording(word)
 
 
 def _with_b(words: list[str], bags: set[str]) -> str:

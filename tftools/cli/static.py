@@ -4,12 +4,14 @@ them to a copy of a bag."""
 from __future__ import annotations
 
 import math
+import shlex
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from tftools.analysis.findings import counted
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stdout, warn
@@ -161,6 +163,7 @@ def _given(
     if degrees and not rpy_used:
         raise UsageError("--deg is for yaw, pitch and roll", "e.g. tfx static 0 0 1 90 0 0 base_link laser --deg")
     if arguments:
+        _not_a_recording(arguments)
         return [_positional(arguments, degrees)]
     if not flags_used:
         return []
@@ -178,6 +181,21 @@ def _given(
     return [static_transform([*translation, *angles], frame, child, degrees=degrees)]
 
 
+def _not_a_recording(arguments: list[str]) -> None:
+    """``tfx static robot.bag``: a recording where the transform's numbers go, refused with what reads its statics."""
+    from tftools.sources.storage.locations import names_a_recording
+
+    bags = [a for a in arguments if names_a_recording(a)]
+    if bags:
+        bag = shlex.quote(bags[0])
+        raise UsageError(
+            f"{bags[0]} is a recording: tfx static publishes the transform its numbers give (x y z yaw pitch roll "
+            "frame child)",
+            f"to see the recording's static transforms: tfx frames {bag} (or tfx wtf {bag}, which checks them); to "
+            f"make them survive a replay: tfx static --repair -b {bag} -o OUT",
+        )
+
+
 def _positional(arguments: list[str], degrees: bool = False) -> Transform:
     """static_transform_publisher's positional forms; tf1's trailing period is accepted and ignored."""
     from tftools.sinks.static import static_transform
@@ -188,7 +206,7 @@ def _positional(arguments: list[str], degrees: bool = False) -> Transform:
         arguments = arguments[:-1]
     if len(arguments) not in (8, 9):
         raise UsageError(
-            f"{len(arguments)} arguments: expected 8 (x y z yaw pitch roll frame child) "
+            f"{counted(len(arguments), 'argument')}: expected 8 (x y z yaw pitch roll frame child) "
             "or 9 (x y z qx qy qz qw frame child)",
             "tfx static --help",
         )

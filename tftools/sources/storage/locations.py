@@ -76,6 +76,11 @@ def _below_local(path: str, *, listed_only: bool) -> list[str]:
     return found
 
 
+def names_a_recording(word: str) -> bool:
+    """Whether a command-line word is a recording: a bag file by its suffix, or a folder with a metadata.yaml."""
+    return not word.startswith("-") and (word.endswith(BAG_SUFFIXES) or os.path.isfile(os.path.join(word, METADATA)))
+
+
 def is_bag_directory(directory: Path) -> bool:
     """A ROS 2 bag as the readers take one: a metadata.yaml, or .db3/.mcap files, directly inside."""
     return (directory / METADATA).exists() or any(directory.glob("*.db3")) or any(directory.glob("*.mcap"))
