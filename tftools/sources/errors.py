@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 
 from tftools.core.errors import TfToolsError
@@ -73,12 +74,21 @@ def repair_hint(path: str) -> str:
     ROS 2 bag helps no one)."""
     if path.endswith(".bag"):
         return "re-copy the file if it was cut short; else run `rosbag reindex` on a copy"
-    if path.endswith((".mcap", ".mcap.zstd")):
+    if path.endswith((".mcap", ".mcap.zstd")) or _holds_mcap(path):
         return "re-copy the file if it was cut short; else `mcap recover` (the mcap CLI) rescues what it can read"
     return (  # a .db3, or a ROS 2 bag directory
         "re-copy the bag if it was cut short; else sqlite3's .recover rescues what a damaged .db3 still holds"
         " (sqlite3 COPY.db3 .recover | sqlite3 FIXED.db3)"
     )
+
+
+def _holds_mcap(path: str) -> bool:
+    """A ROS 2 bag directory of MCAP files (none of sqlite3)."""
+    try:
+        names = os.listdir(path) if os.path.isdir(path) else []
+    except OSError:
+        return False
+    return any(n.endswith((".mcap", ".mcap.zstd")) for n in names) and not any(n.endswith(".db3") for n in names)
 
 
 class UnreadableFileError(CorruptBagError):

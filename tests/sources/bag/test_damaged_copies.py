@@ -5,6 +5,7 @@ line that names the damage and what to do, in the recording's own format's words
 from __future__ import annotations
 
 import os
+import re
 import sqlite3
 import struct
 from contextlib import closing
@@ -17,6 +18,8 @@ from mcap.writer import CompressionType
 from tests.sources.bag.damaged import copied, cut, rows
 from tests.sources.bag.reading import read_contents
 from tests.sources.ros2_helpers import Other, batch_rows, varied_messages, write_rosbag2
+from tftools.analysis.wtf import Scene, findings_of
+from tftools.sources import read_recording
 from tftools.sources.bag.mcap.index import summary_of
 from tftools.sources.bag.mcap.records import ChunkIndex
 from tftools.sources.bag.ros1.records import (
@@ -160,8 +163,26 @@ def test_an_mcap_cut_in_its_first_chunk_says_nothing_was_read_not_a_time_of_0(tm
     (part,) = bag.glob("*.mcap")
     cut(part, 1000)
     assert read_contents([bag]).problems == [
-        "cut short at byte 1000, inside the record at byte 90: no message before it could be read; the rest is lost"
+        "cut short at byte 1000, inside a chunk that runs from byte 90 to 584742: no message before it could be read; "
+        "the rest is lost"
     ]
+
+
+def test_an_mcap_bag_cut_short_says_how_much_of_what_its_metadata_lists_was_read(tmp_path: Path) -> None:
+    """A scout's cut copy of a CompRobo Neato's bag as MCAP (2026-12-02): 'cut short at byte 100000, inside the
+    record at byte 43', PASSED, hinted to 'repair the bag as the problem says' (it names no repair); a directory of
+    one .mcap cut to nothing was told sqlite3's .recover. The chunk is said as one, with how much of what
+    metadata.yaml lists was read, and the MCAP's own repair."""
+    bag = copied("ros2_mcap_coug_auv_replayed", tmp_path)
+    (part,) = bag.glob("*.mcap")
+    cut(part, 300_000)
+    (problem,) = [f for f in findings_of(Scene(read_recording([bag]))) if f.code == "bag_problem"]
+    assert re.search(r" \(metadata\.yaml lists \d+ messages: \d+ read, \d+%\)$", problem.message), problem.message
+    assert problem.hint.endswith("`mcap recover` (the mcap CLI) rescues what it can read"), problem.hint
+    cut(part, 40)
+    with pytest.raises(CorruptBagError) as raised:
+        read_contents([bag])
+    assert "`mcap recover`" in raised.value.hint and "sqlite3" not in raised.value.hint
 
 
 def _topics_table(db3: Path) -> tuple[list[tuple[object, ...]], int, int]:

@@ -81,7 +81,8 @@ class _Stream:
             if end > self.size:
                 if opcode == CHUNK:
                     self._chunk(self.f.read(), partial=True)
-                return f"cut short at byte {self.size}, inside the record at byte {self.pos}"
+                kind = "a chunk" if opcode == CHUNK else "a record"
+                return f"cut short at byte {self.size}, inside {kind} that runs from byte {self.pos} to {end}"
             try:
                 self._record(opcode, length)
             except DamageError as e:
