@@ -15,7 +15,7 @@ from tftools.analysis.filter.fates import NEVER, Fate, Fates, message_fates, pus
 from tftools.core.buffer import Buffer
 from tftools.core.time import NS_PER_S
 from tftools.core.transform import Transform
-from tftools.render.filter import renderable
+from tftools.render.filter import as_dict, renderable
 from tftools.sources.contents import StampedMessages
 
 T0 = 1_700_000_000 * NS_PER_S
@@ -119,6 +119,29 @@ def test_messages_stamped_before_the_first_tf_anyone_sent_are_said_to_predate_tf
     assert "6 stamped before the first tf anyone published: the sensor started before tf" in text, text
     assert "6 never: before any tf 6" in text and "before recorded tf" not in text, text
     assert "record tf from before the sensor" not in text, text
+
+
+def test_messages_before_an_edge_that_came_late_while_tf_was_recorded_are_told_its_publisher_started_late() -> None:
+    """A CompRobo Neato in Gazebo (titut/ros_behaviors_fsm person_following, a scout's, 2026-12-02): the wheels and
+    /stable_scan from the first moment, odom -> base_footprint's first transform 0.99 s later; 5 scans stamped
+    before it were told 'record tf from before the sensor', which was recorded. They stay undecided (its first
+    transforms may have gone unheard), with what was observed: that edge's first transform came after them, while
+    other tf was recorded already."""
+    scans = [(T0 + 2 * MS + i * 100 * MS, "laser", T0 + i * 100 * MS) for i in range(30)]
+    odom = _moving("odom", "base_link", 10, 1 * MS, start_s=1.0)
+    buffer = _buffer(odom, _static("base_link", "laser", T0 - 5 * MS), _moving("base_link", "wheel", 10, 1 * MS))
+    report = filter_streams(buffer, [_stream(scans)], FilterQuery(target="odom"))
+    (stream,) = report.streams
+    assert stream.before_tf == 10 and stream.undecided == {"before_recorded_tf": 10}, stream
+    assert stream.began_late == ("odom", "base_link", 999 * MS), stream.began_late
+    text = " ".join(_text(report).split())
+    assert "odom -> base_link's first transform arrived 0.999 s after the first of them, while other tf" in text
+    assert "record tf from before the sensor" not in text, text
+    assert as_dict(report)["topics"][0]["began_late"] == {"parent": "odom", "child": "base_link", "after_s": 0.999}
+    alone = _buffer(odom, _static("base_link", "laser", T0 + 500 * MS))  # no tf heard before the scans: unknown
+    unheard = filter_streams(alone, [_stream(scans)], FilterQuery(target="odom"))
+    assert unheard.streams[0].began_late is None
+    assert "record tf from before the sensor" in " ".join(_text(unheard).split())
 
 
 def test_messages_before_tf_that_came_right_after_the_recording_began_stay_undecided() -> None:

@@ -9,7 +9,7 @@ from rich.console import Group, RenderableType
 from rich.table import Table
 from rich.text import Text
 
-from tftools.analysis.filter.fates import FilterReport, StreamReport, Unchecked
+from tftools.analysis.filter.fates import FilterReport, StreamReport, Unchecked, began_late_in_words
 from tftools.analysis.filter.namesakes import renamed_in_words
 from tftools.analysis.targets import is_odometry, odometry_tf_unpublished
 from tftools.core.figures import KEEP, seconds, wait_in_words
@@ -177,6 +177,8 @@ def _advice(s: StreamReport) -> str:
             f"{s.before_tf} stamped before the first tf anyone published: the sensor started before tf; no cache "
             "keeps them and there is nothing to record earlier"
         )
+    elif s.before_tf and s.began_late is not None:
+        said.append(f"{s.before_tf} stamped before tf began: {began_late_in_words(s.began_late)}")
     elif s.before_tf:
         said.append(f"{s.before_tf} stamped before tf began: no cache keeps them; record tf from before the sensor")
     if s.stamped_zero:
@@ -236,6 +238,10 @@ def _stream_dict(s: StreamReport) -> dict[str, Any]:
                 "stamped_zero",
             )
         },
+        # the edge whose first transform came after the messages stamped before it, while tf was recorded already
+        "began_late": None
+        if s.began_late is None
+        else {"parent": s.began_late[0], "child": s.began_late[1], "after_s": seconds(s.began_late[2])},
         # its frames no transform names that have a namesake in the tree: its mount under another name, perhaps
         "namesakes": [{"frame_id": f, "tree_frame": m, "parent": p} for f, m, p in s.namesakes],
     }

@@ -731,6 +731,11 @@ class StreamReport:
     # before it did: the recorder was listening and no tf existed yet (a simulation's first 0.2 s), so nothing
     # earlier can be recorded: the sensor started before tf.
     before_any_tf: bool = False
+    # Of ``before_tf`` left undecided, where each arrived before the first transform of the edge they waited for
+    # while other tf was recorded already: that edge (parent, child), and how long (ns) after the first of them
+    # its first transform arrived: its publisher started after the sensor (or its first transforms went unheard),
+    # so recording earlier keeps none of them. None where that is not observed.
+    began_late: tuple[str, str, int] | None = None
     # Lost to their age, stamped 0 (an unset header.stamp), arrived before their chain's tf existed: no cache
     # keeps them either (tf2 drops the waiting request once tf comes), setting the stamp does.
     stamped_zero: int = 0
@@ -880,11 +885,44 @@ def stream_report(
         clock_apart=_clock_apart(buffer, _most(lost), stream, lost_rows),
         before_tf=int(early.sum()),
         before_any_tf=bool(early.any()) and bool((fates.fate[early] == Fate.BEFORE_ANY_TF).all()),
+        began_late=_began_late(buffer, stream, fates, early & (fates.fate == Fate.BEFORE_RECORDED_TF), began),
         stamped_zero=int((fates.zero_before_chain() & np.isin(fates.fate, AGED)).sum()),
         unplaced=_unplaced(buffer, stream, target) if counts[Fate.UNKNOWN_FRAME] else "",
         children=stated_children(stream),
         fused=bool(counts[Fate.UNKNOWN_FRAME]) and _fused(buffer, stream),
     )
+
+
+def began_late_in_words(began_late: tuple[str, str, int]) -> str:
+    """What keeps messages stamped before an edge's first transform, which came after them while tf was recorded
+    (``StreamReport.began_late``): not a cache, nor recording earlier."""
+    parent, child, after = began_late
+    return (
+        f"{parent} -> {child}'s first transform arrived {seconds_in_words(after)} after the first of them, while "
+        "other tf was recorded already: its publisher started after the sensor (or its first transforms went "
+        "unheard); no cache keeps them and there is nothing earlier to record: start it before the sensor, or drop "
+        "messages stamped before it starts"
+    )
+
+
+def _began_late(
+    buffer: Buffer, stream: StampedMessages, fates: Fates, early: BoolArray, began: TfBegan | None
+) -> tuple[str, str, int] | None:
+    """``StreamReport.began_late`` of the ``early`` messages (stamped before their chain's recorded tf, undecided):
+    the edge most of them waited for, where every one of them arrived before its first transform did and the
+    recording held tf from before the first of them (the recorder was listening); None otherwise."""
+    rows = np.flatnonzero(early)
+    began = TfBegan.of(buffer) if began is None else began
+    edge_ = _most([fates.edge[i] for i in rows.tolist()])
+    arrived = stream.record_time[rows]
+    if edge_ is None or began.heard is None or not len(arrived) or (arrived <= 0).any():
+        return None
+    hist = buffer.history(edge_[1])
+    records = hist.record_times[hist.record_times > 0] if hist is not None else np.zeros(0, np.int64)
+    first = int(records.min()) if len(records) else None
+    if first is None or int(arrived.max()) >= first or began.heard > int(arrived.min()):
+        return None
+    return edge_[0], edge_[1], first - int(arrived.min())
 
 
 def _missing(buffer: Buffer, stream: StampedMessages) -> set[str]:
