@@ -18,14 +18,18 @@ from tftools.core.transform import Transform
 MS = 1_000_000
 
 
-def _seen(child: str, seconds: list[float], x: float = 1.0, flip_at: float | None = None) -> list[TfMessage]:
+def _seen(
+    child: str, seconds: list[float], x: float = 1.0, flip_at: float | None = None, hop_at: float | None = None
+) -> list[TfMessage]:
     """camera -> ``child`` at each of ``seconds`` after the scenes' START, recorded 30 ms later; rotated 30
-    degrees about x at ``flip_at`` alone (a planar marker's pose flipping to its other solution and back)."""
+    degrees about x at ``flip_at`` alone (a planar marker's pose flipping to its other solution and back); 0.2 m
+    further at ``hop_at`` alone, its rotation as ever (a depth detector taking another object for it)."""
     messages = []
     for s in seconds:
         stamp = scenes.START + round(s * NS_PER_S)
         roll = 0.52 if flip_at is not None and abs(s - flip_at) < 1e-9 else 0.0
-        seen = Transform.from_rpy((x, 0.0, 0.5), (roll, 0.0, 0.0), stamp, "camera", child)
+        depth = 0.7 if hop_at is not None and abs(s - hop_at) < 1e-9 else 0.5
+        seen = Transform.from_rpy((x, 0.0, depth), (roll, 0.0, 0.0), stamp, "camera", child)
         messages.append(TfMessage("/tf", stamp + 30 * MS, [seen], "/aruco"))
     return messages
 
@@ -71,6 +75,16 @@ def test_a_markers_pose_flip_is_a_detectors_ambiguity_not_a_localization_correct
     flips = _of(_check(_seen("marker_0", [i * 0.04 for i in range(250)], flip_at=5.0)), "jump", "marker_0")
     assert "a detection" in flips.message, flips.message
     assert "ambiguous" in flips.hint and "map -> odom" not in flips.hint, flips.hint
+
+
+def test_a_detections_position_step_with_its_rotation_never_changing_is_no_markers_flip() -> None:
+    """e-Yantra's Krishi Bot in Gazebo (atom-robotics-lab/eyrc22_KB_1133's KB_1133.bag, a scout's): fruits found
+    by depth, their rotation identity throughout, one hopping 0.2 m between two fruits; told a planar marker's
+    pose is ambiguous and to use a larger marker. Said as the position's step it is."""
+    seen = _seen("fruit_red_1", _bursts(), hop_at=_bursts()[55])  # comes and goes, as the fruits did
+    hops = _of(_check(seen), "jump", "fruit_red_1")
+    assert "a detection" in hops.message and "0.0°" in hops.message, hops.message
+    assert hops.hint.startswith("a detector's position estimate steps") and "marker" not in hops.hint, hops.hint
 
 
 def test_map_to_odom_and_a_robots_jump_keep_the_localization_hint() -> None:

@@ -377,6 +377,23 @@ DETECTION_JUMP = (
 )
 
 
+#: ``jump``'s hint for a detection whose rotation never changes (a detector that gives a position alone): no flip
+#: of a marker's pose, a step in where it found the object.
+DETECTION_POSITION_JUMP = (
+    "a detector's position estimate steps, not the object: its rotation never changes (the detector gives a "
+    "position alone), so the step is in where it found the object: another object taken for it (two alike in "
+    "view), or a bad depth reading; filter the positions (reject a step no motion explains) or tell the objects "
+    "apart"
+)
+
+
+def _detection_hint(samples: EdgeSamples) -> str:
+    """A detection's steps in words: a marker's ambiguous pose where its rotation moves, else its position's."""
+    rotations = samples.values[:, 3:]
+    held = len(rotations) > 1 and bool(np.ptp(rotations, axis=0).max() == 0.0)
+    return DETECTION_POSITION_JUMP if held else DETECTION_JUMP
+
+
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")
 def jump(scene: Scene) -> Iterator[Finding]:
     """Not map -> odom, whose corrections REP 105 allows (``map_corrections``). A warning, on odom -> base_link
@@ -399,7 +416,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
             "(joint_state_publisher's defaults beside the driver's or the simulator's readings), or a driver "
             "resetting the joint; check who publishes /joint_states"
             if samples.key in joints
-            else DETECTION_JUMP
+            else _detection_hint(samples)
             if samples.key in scene.detections
             else _correction_hint(scene, samples)
         )
