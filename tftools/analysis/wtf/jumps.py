@@ -399,7 +399,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
     """Not map -> odom, whose corrections REP 105 allows (``map_corrections``). A warning, on odom -> base_link
     too: every lookup through a jump works (an error breaks lookups), and a step is a correction (GPS fused
     into odom) as often as a reset; REP 105's advice says what it does to what is planned in odom."""
-    joints = scene.shared("joints", lambda: _joints(scene)) - set(scene.detections)  # a marker turning in view
+    joints = joint_edges(scene) - set(scene.detections)  # a marker turning in view
     for samples, found, when in _edge_jumps(scene, corrections=False):
         if samples.key in joints:
             found, when = _back_and_forth(samples.values, found, when)
@@ -478,6 +478,11 @@ def _back_and_forth(values: FloatArray, found: Jumps, when: Int64Array) -> tuple
 #: Transforms whose messages ``_joints`` compares at once, at most: a message is of one record time, so the
 #: recording is compared a span of record times at a time (4.1M transforms' message keys held 0.4 GB at once).
 MESSAGES_AT_ONCE = 1 << 19
+
+
+def joint_edges(scene: Scene) -> set[tuple[str, str]]:
+    """A state publisher's joints (``_joints``), found once per scene."""
+    return scene.shared("joints", lambda: _joints(scene))
 
 
 def _joints(scene: Scene) -> set[tuple[str, str]]:

@@ -10,6 +10,7 @@ import numpy as np
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import APART_DEG, APART_M, inferred_edges, sent_before
+from tftools.analysis.wtf.jumps import joint_edges
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
@@ -460,13 +461,27 @@ def _rhythm(
             )
             return
         message = (
-            f"{what} publishes irregularly: {_off_share(intervals, step, usual):.0%} of its intervals are more "
-            f"than {IRREGULAR:.0%} off the {duration(usual / NS_PER_S)} it keeps up most of the time (from "
-            f"{duration(intervals.min() / NS_PER_S)} to {duration(intervals.max() / NS_PER_S)})"
+            f"{what} publishes irregularly: {_off_share(intervals, step, usual):.0%} of the intervals between its "
+            f"arrivals are more than {IRREGULAR:.0%} off the {duration(usual / NS_PER_S)} it keeps up most of the "
+            f"time (from {duration(intervals.min() / NS_PER_S)} to {duration(intervals.max() / NS_PER_S)})"
             f"{_one_stretch(intervals, _off(intervals, step, usual), usual)}"
         )
-        hint = "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
+        hint = (
+            _joint_rhythm(scene)
+            if frames in joint_edges(scene)
+            else "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
+        )
     yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
+
+
+def _joint_rhythm(scene: Scene) -> str:
+    """``rate``'s hint for a state publisher's joint: its rhythm is that of the joint states it is sent."""
+    return (
+        "robot_state_publisher sends a joint's transform for each /joint_states message it gets, so this is "
+        "/joint_states' rhythm: two sources of it at different rates (joint_state_publisher beside the driver or "
+        f"the simulator), or one publishing irregularly; check who publishes /joint_states "
+        f"({scene.list_publishers('/joint_states')})"
+    )
 
 
 #: ``rate``'s hint for samples received, and stamped, a batch at a time (``_batches``).
