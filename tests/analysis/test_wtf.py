@@ -220,6 +220,11 @@ def test_a_stamp_sent_again_twice_with_one_other_value_is_two_rows_lost_on_one_s
     ), said[Severity.error].message
     assert "again with a stamp and values it had already sent" in said[Severity.warning].message
     assert "nothing is lost" in said[Severity.warning].message
+    # timed when they came, as "first at" says (e-Yantra's iteration1.bag: 'first at 389.769' beside a JSON first
+    # time of 389.647, the stamp), not at the stamp they repeat
+    arrived = again.record_time + MS // 4  # recorded on the stamps' clock: ROS time at arrival
+    assert said[Severity.error].first_time == arrived, (said[Severity.error].first_time, stamp)
+    assert said[Severity.error].first_time != stamp
 
 
 def test_every_registered_check_has_a_scene() -> None:

@@ -751,7 +751,15 @@ def _went_back(scene: Scene, frames: tuple[str, str], mine: IntpArray, back: Boo
             f"{name}{by}: {transforms(len(offenders))} arrived out of order, stamped up to "
             f"{duration(largest / NS_PER_S)} before one already received, first at {first}{stepped}"
         )
-    return scene.finding(severity, "time_backwards", message, hint, frames, offenders)
+    return _when_they_came(scene, severity, message, hint, frames, offenders)
+
+
+def _when_they_came(
+    scene: Scene, severity: Severity, message: str, hint: str, frames: tuple[str, str], offenders: IntpArray
+) -> Finding:
+    """A ``time_backwards`` finding timed by when its transforms came, as its "first at" says (a stamp already sent
+    of 389.647 s came again at 389.769 s): on the stamps' clock, as every finding's, not at the old stamps."""
+    return scene.finding(severity, "time_backwards", message, hint, frames, offenders, scene.arrival(offenders))
 
 
 def _stepped_back(values: FloatArray, stamps: Int64Array, back: BoolArray) -> str:
@@ -808,4 +816,4 @@ def _repeated(scene: Scene, frames: tuple[str, str], offenders: IntpArray, same:
             f"{first}: tf2 ignores them (TF_REPEATED_DATA), answering from each stamp's first value, so those "
             "updates are lost"
         )
-    return scene.finding(severity, "time_backwards", message, hint, frames, offenders)
+    return _when_they_came(scene, severity, message, hint, frames, offenders)
