@@ -118,3 +118,16 @@ def test_no_rename_under_a_parent_that_moved() -> None:
     for tree, q in ((a, (0.0, 0.0, 0.0, 1.0)), (b, turned)):
         tree.frames["alpha"] = FrameShape("alpha", "base_link", static=True, translation=(0.37, 0.0, 0.07), rotation=q)
     assert [d[:2] for d in _said(a, b)] == [("moved", "cam2"), ("moved", "cam3"), ("moved", "alpha")]
+
+
+def test_mounts_renamed_under_a_root_that_gained_a_parent_are_renames() -> None:
+    """A mapping robot's bags before and after its EKF (robo_lape, 2018-09-20 and -25): base_link a root in A, under
+    the EKF's odom in B, its mounts base_imu and base_laser renamed imu_frame and laser_frame at the same places:
+    read lost and added, their parent counted unsettled as if it had moved. A tree joined moves none of its frames."""
+    a = _tree(_wheel("base_imu", 0.045, 0.0), _wheel("base_laser", -0.07, 0.0))
+    b = _tree(_wheel("imu_frame", 0.045, 0.0), _wheel("laser_frame", -0.07, 0.0))
+    b.frames["odom"] = FrameShape("odom", None)
+    b.frames["base_link"] = FrameShape("base_link", "odom", translation=(0.1, 0.0, 0.0), rotation=(0.0, 0.0, 0.0, 1.0))
+    said = _said(a, b)
+    assert ("renamed", "imu_frame", "base_imu", 0.0) in said and ("renamed", "laser_frame", "base_laser", 0.0) in said
+    assert not any(change in ("lost", "added") and frame != "odom" for change, frame, _, _ in said), said

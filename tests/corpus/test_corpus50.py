@@ -87,3 +87,12 @@ def test_joints_fed_by_two_joint_state_sources_and_repeats_timed_when_they_came(
         assert "rostopic info /joint_states" in found["hint"]
     (repeated,) = _findings(tfx, bag, "time_backwards")
     assert "first at 389.769 (+11.6 s)" in repeated["message"] and repeated["first_time"] == 389.769, repeated
+
+
+def test_mounts_renamed_between_the_robots_two_bags_are_said_renamed(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Five days apart the robot's mounts went from base_imu and base_laser to imu_frame and laser_frame, the same
+    values, and its EKF hung base_link under odom: diff said two frames lost and two added."""
+    before, after = corpus(BY_ID[NAMED_OTHERWISE]), corpus(BY_ID["ros1-robo-lape-ekf-repeated-stamps-2018-bag"])
+    said = tfx("diff", before, after).stdout
+    assert "base_imu in A is imu_frame in B, renamed" in said and "base_laser in A is laser_frame in B, renamed" in said
+    assert "lost" not in said, said

@@ -29,7 +29,7 @@ def renamed(found: list[Difference], tolerances: Tolerances) -> list[Difference]
     now = {d.frame: d.after for d in found if d.change is Change.added and d.after and _placed(d.after)}
     was.update((name, before) for name, (before, _) in moved.items())
     now.update((name, after) for name, (_, after) in moved.items())
-    unsettled = {d.frame for d in found if d.change in _UNSETTLED}  # a place under such a parent tells nothing
+    unsettled = {d.frame for d in found if _unsettled(d)}  # a place under such a parent tells nothing
     was = {name: f for name, f in was.items() if f.parent not in unsettled}
     now = {name: f for name, f in now.items() if f.parent not in unsettled}
     near = {x: [y for y in now if y != x and _near(was[x], now[y])] for x in was}
@@ -63,6 +63,14 @@ def renamed(found: list[Difference], tolerances: Tolerances) -> list[Difference]
 #: The differences of a parent under which its children's places are not compared for a rename: the GrandTour
 #: box's alphasense_base turned 180 degrees between two calibrations, its cameras' places under it with it.
 _UNSETTLED = (Change.moved, Change.reparented, Change.static, Change.reordered, Change.lost, Change.added)
+
+
+def _unsettled(d: Difference) -> bool:
+    """Whether ``d`` leaves its frame's children's places uncompared (``_UNSETTLED``); not a root of A that B hangs
+    under a parent (a mapping robot's base_link under the odom its EKF added, robo_lape's two bags: its mounts,
+    renamed, were read lost and added): its place under that new parent tells nothing of theirs under it."""
+    joined = d.change is Change.reparented and d.before is not None and d.before.parent is None
+    return d.change in _UNSETTLED and not joined
 
 
 def _swapped_later(x: str, to: dict[str, str], said: list[Difference]) -> bool:
