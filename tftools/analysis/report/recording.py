@@ -32,7 +32,11 @@ from tftools.sources.recording import Recording
 from tftools.sources.timeline import NO_RECORD_CLOCK, Reference
 
 #: What the tf2 semantics are called on the page.
-TF2_NAMES = {"ros1": "ROS 1's (Noetic)", "ros2": "ROS 2's (Rolling, Jazzy)"}
+TF2_NAMES = {
+    "ros1": "ROS 1's (Noetic)",
+    # Humble's answers are the same; its error classes and its empty cache's words differ (core.semantics)
+    "ros2": "ROS 2's (Rolling and Jazzy; Humble answers alike)",
+}
 
 
 @dataclass(frozen=True)
