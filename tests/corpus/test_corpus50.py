@@ -96,3 +96,11 @@ def test_mounts_renamed_between_the_robots_two_bags_are_said_renamed(corpus: Cor
     said = tfx("diff", before, after).stdout
     assert "base_imu in A is imu_frame in B, renamed" in said and "base_laser in A is laser_frame in B, renamed" in said
     assert "lost" not in said, said
+
+
+def test_echo_inside_a_detections_long_gap_says_it_interpolates_across_it(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """fruit_red_1 unseen for 13.99 s: echo printed a value inside it like any other."""
+    bag = corpus(BY_ID[FRUITS])
+    result = tfx("echo", "camera_depth_frame2", "fruit_red_1", "-b", bag, "--at", "23.529")
+    assert result.code == 0, result.stderr
+    assert "the lookup falls where camera_depth_frame2 -> fruit_red_1 had no sample for 13.987 s" in result.stderr

@@ -174,6 +174,7 @@ def command(
     series = echo(recording, query)
     lines.show(series, recording.buffer, print_lines=plot is None)  # on a bag, the picture instead of the lines
     lines.say_span(recording, query, series)
+    lines.say_gap(recording.buffer, series)
     exit_with(lines.done())
 
 
@@ -243,6 +244,16 @@ class Lines:
 
         said = None if self.hinted else span_hint(recording, query, series)
         if said is not None:
+            self.hinted.append(said)
+            say_hint(said)
+
+    def say_gap(self, buffer: Buffer, series: EchoSeries) -> None:
+        """On stderr, once: where lookups answered inside a pause of an edge of their chain, that tf2 interpolated
+        across it (``analysis.echo.gap_hint``): tf_echo's lines look the same as any other."""
+        from tftools.analysis.echo import gap_hint
+
+        said = gap_hint(buffer, series)
+        if said is not None and said not in self.hinted:
             self.hinted.append(said)
             say_hint(said)
 

@@ -17,13 +17,14 @@ from tftools.analysis.edges import chain_moving_edges
 from tftools.analysis.findings import counted
 from tftools.analysis.frames import tree_of
 from tftools.analysis.times import Offset, Stamp, TimeSpec, played_range, resolve_range, resolve_time
+from tftools.analysis.wtf.thresholds import Thresholds
 from tftools.core.arrays import BoolArray, FloatArray, Int64Array
 from tftools.core.buffer import DEFAULT_CACHE_TIME, Buffer
 from tftools.core.errors import ExtrapolationError, TooManyLinesError, TransformError
-from tftools.core.figures import record_span, time_base_of
+from tftools.core.figures import pause_rows, record_span, time_base_of
 from tftools.core.frames import frame_name
 from tftools.core.rotation import rpy_from_quat_many
-from tftools.core.time import NS_PER_S
+from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.timeline import Timeline
 
 if TYPE_CHECKING:
@@ -298,6 +299,37 @@ def span_hint(recording: Recording, query: EchoQuery, series: EchoSeries) -> str
         f"{asked / NS_PER_S:.3f} is {'before' if asked < first else 'after'} the recording's tf of {target} <- "
         f"{source} ({first / NS_PER_S:.3f} to {last / NS_PER_S:.3f}, {(last - first) / NS_PER_S:.3f} s on its "
         f"clock): --at {reach} look it up there"
+    )
+
+
+def gap_hint(buffer: Buffer, series: EchoSeries, floor: float = Thresholds().max_gap) -> str | None:
+    """What to say under lookups that answered inside a pause of a moving edge of their chain (``figures.pauses``,
+    longer than ``floor`` s and its rhythm allows: wtf's gap): tf2 interpolates across it, as tf_echo prints, a
+    guess of where the frame was (e-Yantra's fruit detection unseen for 13.99 s, echoed in between without a
+    word). The edge with the most such lookups, and its longest pause among them; None where none falls in one."""
+    answered = series.times[series.valid]
+    found = []
+    for child, hist in chain_moving_edges(buffer, series.target, series.source).items() if len(answered) else ():
+        stamps = hist.stamps
+        _, _, rows = pause_rows(stamps, from_sec(floor), record_span(hist.record_times))
+        if not len(rows):
+            continue
+        starts, ends = stamps[rows], stamps[rows + 1]
+        index = np.searchsorted(starts, answered, side="right") - 1
+        at = np.maximum(index, 0)
+        inside = (index >= 0) & (answered > starts[at]) & (answered < ends[at])
+        if inside.any():
+            hit = np.unique(at[inside])
+            longest = int(hit[np.argmax(ends[hit] - starts[hit])])
+            parent = buffer.frame_name(hist.latest_parent)
+            found.append((int(inside.sum()), parent, child, int(starts[longest]), int(ends[longest])))
+    if not found:
+        return None
+    count, parent, child, start, end = max(found)
+    which = "the lookup falls" if len(answered) == 1 else f"{count} of the {len(answered)} lookups fall"
+    return (
+        f"{which} where {parent} -> {child} had no sample for {(end - start) / NS_PER_S:.3f} s ({start / NS_PER_S:.3f} "
+        f"to {end / NS_PER_S:.3f}): tf2 interpolates across that stretch, a guess of where {child} was, not a sample"
     )
 
 
