@@ -508,6 +508,16 @@ def test_delays_of_several_ticks_of_a_coarse_clock_are_measured_to_a_tick() -> N
     assert "cannot be measured" in within_a_tick.timeline.delays_unavailable
 
 
+def test_trees_apart_for_want_of_tf_static_in_a_file_are_told_how_to_read_it_with_them(tmp_path: Path) -> None:
+    """e-Yantra's Krishi Bot (a scout's, 2026-12-02): 4 trees, /tf_static not recorded; told to record it, which a
+    recording made cannot, and not that tfx static adds a mount to a copy of it (the scout joined them so)."""
+    arm = periodic("/rsp", 20, lambda stamp: [_t("arm_base", "arm_link", stamp, _s(stamp))])
+    bag = write(tmp_path, "apart", BagFormat.ros1, sorted([*ekf(), *arm], key=lambda m: m.record_time))
+    (apart,) = [f for f in check(read_recording([bag])).findings if f.code == "disconnected"]
+    assert "rosbag record /tf /tf_static" in apart.hint, apart.hint
+    assert f"tfx static X Y Z YAW PITCH ROLL PARENT CHILD -b {bag} -o COPY adds one to a copy" in apart.hint
+
+
 @pytest.mark.parametrize("fmt", list(BagFormat))
 def test_empty_tf_messages_are_counted_where_they_are_read(tmp_path: Path, fmt: BagFormat) -> None:
     """Issue 39: a fifth of /tf empty went unmentioned where no metadata.yaml counts the topic (a ROS 1 bag, a

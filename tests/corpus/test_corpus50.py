@@ -65,11 +65,14 @@ def test_a_ros2_bags_listed_publishers_are_said_by_monitor(corpus: Corpus, tfx: 
     assert "metadata.yaml lists 2 publishers of /tf and 1 publisher of /tf_static" in text, text
 
 
-def test_a_fruit_detections_hops_with_its_rotation_never_changing_are_no_markers_flip(
+def test_its_trees_apart_are_told_tfx_static_and_its_fruit_hops_no_markers_flip(
     corpus: Corpus,
     tfx: Tfx,  # noqa: F811
 ) -> None:
-    (jump,) = _findings(tfx, corpus(BY_ID[FRUITS]), "jump")
+    bag = corpus(BY_ID[FRUITS])
+    (apart,) = _findings(tfx, bag, "disconnected")
+    assert f"tfx static X Y Z YAW PITCH ROLL PARENT CHILD -b {bag} -o COPY adds one to a copy" in apart["hint"]
+    (jump,) = _findings(tfx, bag, "jump")
     assert "0.238 m and 0.0°" in jump["message"], jump["message"]
     assert jump["hint"].startswith("a detector's position estimate steps") and "marker" not in jump["hint"]
 

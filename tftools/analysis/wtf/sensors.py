@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import shlex
 from collections.abc import Iterator, Sequence
 
 from tftools.analysis.filter.fates import TF_LOST, parent_that_joins
@@ -141,8 +142,21 @@ def statics_missing(scene: Scene, what: str, also: str = "", renamed: str = "") 
         return (
             _no_topic(statics, f"{what} (robot_state_publisher's fixed joints, static_transform_publisher)", record)
             + also
+            + _added_to_a_copy(scene)
         )
     return f"{and_joined(statics)}{_RECORDED_EMPTY}: {_DID_NOT_RUN}{also}"
+
+
+def _added_to_a_copy(scene: Scene) -> str:
+    """Where the statics were not recorded in a file: how to read it with them all the same (a copy with them added:
+    e-Yantra's Krishi Bot's four trees, a scout's, joined one mount at a time); nothing for a live system."""
+    files = [f.path for f in scene.recording.contents.files if not f.format.endswith("-live") and f.format != "buffer"]
+    if len(files) != 1:
+        return ""
+    return (
+        "; to read this one as if they had been: tfx static X Y Z YAW PITCH ROLL PARENT CHILD -b "
+        f"{shlex.quote(files[0])} -o COPY adds one to a copy (--from FILE.yaml several)"
+    )
 
 
 #: ``statics_missing``'s words where /tf_static was recorded without a transform, and the publishers it blames,
