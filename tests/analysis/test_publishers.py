@@ -326,7 +326,7 @@ def test_a_static_message_lacking_an_earlier_ones_transforms_is_another_publishe
         "for 3 static transforms"
     ) in message
     assert "base_link -> bump (175.0 mm and 0.00° apart)" in message
-    assert message.endswith("tf2 keeps the last received for every time: publisher 2's")
+    assert message.endswith("tf2 keeps the values last received for every time: publisher 2's")
     assert conflict.figures["transforms_differing"] == 3 and conflict.figures["apart_m_max"] == pytest.approx(0.175)
     assert "ros2 topic info /tf_static --verbose" in conflict.hint
 

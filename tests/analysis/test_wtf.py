@@ -511,6 +511,24 @@ def test_rows_carry_every_code_the_buffer_refused_them_for() -> None:
     assert {f.code for f in loud(check(taken).findings)} == {"self_transform", "invalid_values", "leading_slash"}
 
 
+def test_an_edge_whose_last_transforms_are_all_nan_is_stale_beneath_their_refusal() -> None:
+    """e-Yantra's Krishi Bot (a scout's, KB_1759.bag): a fruit detection's last 33 transforms NaN, their stamps going
+    on: said 'stopped advancing at 50.489, re-sent to the end' with a stalled localizer's hint. tf2 holds nothing
+    newer than its last valid one because it refused the rest: said so, beneath the refusal."""
+
+    def odom_then_nan(stamp: int) -> list[Transform]:
+        (t,) = odom_base(stamp)
+        return [Transform((math.nan, 0.0, 0.0), t.rotation, stamp, "odom", "base_link")] if _s(stamp) >= 6.0 else [t]
+
+    findings = check(recording(healthy(ekf=periodic("/ekf", 50, odom_then_nan)))).findings
+    (refused,) = [f for f in findings if f.code == "invalid_values"]
+    (stale,) = [f for f in findings if f.code == "stale"]
+    assert "odom -> base_link by /ekf holds nothing newer than" in stale.message, stale.message
+    assert "were refused by tf2 for their values (invalid_values)" in stale.message and "re-sent" not in stale.message
+    assert "stalled localizer" not in stale.hint and "send no transform where its value is unknown" in stale.hint
+    assert stale.cause == refused.key and stale.key != refused.key, (stale.cause, refused.key)
+
+
 def test_infinity_is_refused_like_nan() -> None:
     def infinite(stamp: int) -> list[Transform]:
         if 2.0 <= _s(stamp) < 2.1:

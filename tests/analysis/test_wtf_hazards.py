@@ -439,8 +439,8 @@ def test_two_calibrations_that_disagree_are_one_finding_naming_publishers_frames
     assert finding.message.startswith(
         "/rsp and a publisher on /tf_static (unnamed) send different values for 2 static transforms: "
         "base_link -> laser (150.0 mm and 0.00° apart), base_link -> camera (0.0 mm and 28.65° apart); the largest "
-        "base_link -> laser, 150.0 mm and 0.00° apart. tf2 keeps the last received for every time: a publisher on "
-        "/tf_static (unnamed)'s, at 1700000005.000 (+5.0 s)"
+        "base_link -> laser, 150.0 mm and 0.00° apart. tf2 keeps the values last received for every time: a "
+        "publisher on /tf_static (unnamed)'s, at 1700000005.000 (+5.0 s)"
     ), finding.message
     assert finding.authorities == ("/rsp", "/tf_static") and finding.frames == ("base_link", "laser", "camera")
     assert not [f for f in findings if f.code in {"dynamic_on_static", "multiple_authorities"}], findings

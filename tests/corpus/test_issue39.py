@@ -158,7 +158,7 @@ def test_create3_two_descriptions_are_one_cause_in_every_form(corpus: Corpus, tf
     (conflict,) = causes
     assert conflict["figures"]["publisher_1_transforms"] == 33 and conflict["figures"]["publisher_2_transforms"] == 23
     assert conflict["count"] == 21 and "up to 339.1 mm" in conflict["message"]
-    assert "tf2 keeps the last received for every time: publisher 2's" in conflict["message"]
+    assert "tf2 keeps the values last received for every time: publisher 2's" in conflict["message"]
     urdf = [f for f in findings if f["code"].startswith("urdf_") and f["severity"] == "error"]
     assert len(urdf) == 25 and all(f["cause"] == conflict["key"] for f in urdf)
     assert not [f for f in findings if f["code"] == "dynamic_on_static"]
@@ -188,7 +188,7 @@ def test_neato_two_static_publishers_are_one_static_conflict_in_every_form(
         assert code == 1 and [f["code"] for f in findings] == ["static_conflict"], findings
         message = findings[0]["message"]
         assert "metadata.yaml lists 2 publishers" in message and "base_link -> base_laser_link (79.1 mm" in message
-        assert "tf2 keeps the last received for every time: publisher 2's" in message
+        assert "tf2 keeps the values last received for every time: publisher 2's" in message
     assert [code for code, _ in _junit_failures(tfx, path)] == ["static_conflict"]
     exit_code, legend = _view_frames_legend(tfx, path)
     assert exit_code == 1 and "Problems: 1 error" in legend, legend

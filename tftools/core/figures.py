@@ -239,6 +239,13 @@ def wait_keeping(waits: Int64Array, on_arrival: int, decided: int, keep: float =
     return int(np.partition(waits, must - 1)[must - 1]) if must <= len(waits) else None
 
 
+def kept_in_words(decided: int, keep: float = KEEP) -> str:
+    """The share ``wait_keeping`` keeps of ``decided`` messages, in words: "99.9%", or "all" where that share is every
+    one of them (fewer than a thousand: 99.9% of 116 messages is 116, and "99.9% within" read as a figure no count
+    of them can give)."""
+    return "all" if math.ceil(keep * decided) >= decided else f"{keep:.1%}"
+
+
 def jitter(stamps: Int64Array, span: int = 0) -> float:
     """How irregular sorted ``stamps`` are (ns): the standard deviation of their intervals (on one time base:
     ``across_clocks``); 0 for fewer than two."""

@@ -213,6 +213,12 @@ def _same_edge(first: Finding, finding: Finding) -> bool:
     return bool(first.frames) and first.frames == finding.frames
 
 
+def _refused_to_the_end(cause: Finding, finding: Finding) -> bool:
+    """A stale edge whose later transforms were refused for their values (``stale``'s ``refused_after``), under the
+    refusal of that edge."""
+    return _same_edge(cause, finding) and bool(finding.figures.get("refused_after"))
+
+
 def _robots_alike(cause: Finding, finding: Finding) -> bool:
     """A tree apart whose root the same node of several robots sends without a robot's prefix (two drones'
     MAVROS sending fcu -> lidarlite_laser): no robot's tree holds it because its frames are every robot's."""
@@ -308,6 +314,13 @@ RULES = (
         "edges with the same pauses (or rhythm) at the same times: edges of one message, one publisher's "
         "pause, said once",
         keys=_change,
+    ),
+    Rule(
+        frozenset({"invalid_values"}),
+        frozenset({"stale"}),
+        _refused_to_the_end,
+        "an edge whose transforms after its last valid one were all refused for their values (an e-Yantra fruit "
+        "detection's NaN, its stamps going on): tf2 holds nothing newer, which the refusal says first",
     ),
     Rule(
         frozenset({"stale"}),

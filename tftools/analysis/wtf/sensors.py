@@ -18,7 +18,14 @@ from tftools.analysis.targets import (
 )
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.scene import Scene, and_joined, base_name, duration, edge, listed
-from tftools.core.figures import INSTANT, KEEP, timeout_s, under_tick, wait_in_words, within_in_words
+from tftools.core.figures import (
+    INSTANT,
+    kept_in_words,
+    timeout_s,
+    under_tick,
+    wait_in_words,
+    within_in_words,
+)
 from tftools.core.frames import frame_name
 from tftools.core.time import NS_PER_S, from_sec
 from tftools.sources.codecs.types import TF1_MESSAGE
@@ -279,8 +286,9 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
         # /imu/data: 97% wait 18 ms, one 0.318 s)
         long = s.wait["p99"] > from_sec(scene.thresholds.delay)
         wait = timeout_s(needed, s.tick)
-        kept = f"{KEEP:.1%} {within_in_words(needed, s.tick)}" if s.wait_needed is not None else f"at most {wait:.3f} s"
-        timeout = f"{wait:.3f} s (it keeps {KEEP:.1%} of them)" if s.wait_needed is not None else f"{wait:.3f} s"
+        share = kept_in_words(s.messages - sum(s.undecided.values()) - s.reasons.get("before_any_tf", 0))
+        kept = f"{share} {within_in_words(needed, s.tick)}" if s.wait_needed is not None else f"at most {wait:.3f} s"
+        timeout = f"{wait:.3f} s (it keeps {share} of them)" if s.wait_needed is not None else f"{wait:.3f} s"
         # an instant's wait for the transform of the message's own stamp: both sent together, the message first
         together = s.late_edge is not None and not s.late_after and _instant(s.wait["p99"], s.tick)
         yield Finding(
@@ -289,7 +297,8 @@ def sensor_wait(scene: Scene) -> Iterator[Finding]:
             f"{s.topic}: {s.later} of {s.messages} messages could not be transformed into {_target(scene)} when they "
             f"arrived, waiting {wait_in_words(s.wait['p50'], s.tick)} ({kept}) for "
             f"{edge(*s.late_edge) + ': ' + s.wait_made_of() if s.late_edge else 'tf'}"
-            + (_TOGETHER if together else ""),
+            + (_TOGETHER if together else "")
+            + _undecided(s.undecided),
             f"{_at_once(scene, s.frame_ids, s.late_edge)}a node transforming it at once fails with 'extrapolation "
             f"into the future': use a tf2_ros MessageFilter (queue {max(s.queue_needed, 1)}) or "
             f"canTransform/lookupTransform with a timeout of at least {timeout}, or "
@@ -309,6 +318,20 @@ _TOGETHER = (
     "first): a MessageFilter holds it that instant and passes it; only a node that looks the transform up as the "
     "message arrives, without waiting, fails"
 )
+
+
+#: Why the recording cannot tell what became of messages (``StreamReport.undecided``), in words.
+_UNDECIDED = {
+    "before_recorded_tf": "stamped before the recording's tf of their chain began",
+    "after_recorded_tf": "still waiting when the recording ended",
+}
+
+
+def _undecided(undecided: dict[str, int]) -> str:
+    """The messages a stream's counts leave out, where the recording cannot tell their fate (a simulated TurtleBot3's
+    first 5 IMU messages, stamped before its odometry's first: '5168 of 5280 waited' beside 107 on arrival)."""
+    said = [f"{n} {_UNDECIDED.get(reason, reason.replace('_', ' '))}" for reason, n in undecided.items() if n]
+    return f" ({'; '.join(said)}: undecided, left out)" if said else ""
 
 
 def _instant(wait_ns: float, tick: int) -> bool:

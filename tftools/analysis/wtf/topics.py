@@ -283,7 +283,7 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
             f"/tf_static came from {len(who)} publishers, told apart by their messages (this recording does not "
             f"name them): {sent}. They send different values for "
             f"{counted(len(group.differ), 'static transform')}: {listed(described)}{most}{agree}. tf2 keeps the "
-            f"last received for every time: publisher {kept.number}'s"
+            f"values last received for every time: publisher {kept.number}'s"
         )
         hint = (
             "two descriptions of one robot are published at once (a driver's own static transforms and "
@@ -297,7 +297,7 @@ def _conflict(scene: Scene, senders: StaticSenders, group: StaticShared) -> Find
         message = (
             f"{and_joined(group.names)} send different values for "
             f"{counted(len(group.differ), 'static transform')}: {listed(described)}; the largest "
-            f"{edge(worst[0], worst[1])}, {_apart(worst[2], worst[3])}{agree}. tf2 keeps the last received "
+            f"{edge(worst[0], worst[1])}, {_apart(worst[2], worst[3])}{agree}. tf2 keeps the values last received "
             f"for every time: {kept.name}'s, at {scene.at(int(arrivals.max()))}"
         )
         hint = (
