@@ -12,6 +12,7 @@ import dataclasses
 import html
 import itertools
 import json
+import math
 import re
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
@@ -89,10 +90,13 @@ def _kept(recording: Recording, samples: data.EdgeSamples) -> list[int]:
     """Which of an edge's samples tf2 stores: a moving edge's sample at a stamp already held is not
     stored again (ROS 1's tf2 ignores it, TF_REPEATED_DATA; ROS 2's takes an identical one again
     silently), and where the manifest says (``stored_samples``) a stream mixes unset stamps (0) with
-    wall-clock ones, tf2's cache drops those as soon as the others come."""
+    wall-clock ones, tf2's cache drops those as soon as the others come. A sample whose values are not finite
+    (NaN, infinity) is refused (TF_NAN_INPUT), by both tf2s."""
     seen: set[tuple[float, ...]] = set()
     keep = []
     for i, stamp in enumerate(samples.stamps):
+        if not all(math.isfinite(v) for v in samples.values[i]):
+            continue
         key = (stamp,) if recording.meta["format"] == "ros1" else (stamp, *samples.values[i])
         if (key in seen and not samples.static) or (stamp == 0 and "stored_samples" in recording.meta):
             continue

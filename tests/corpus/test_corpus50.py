@@ -17,6 +17,9 @@ ODOMETRY_LATE = "ros2-neato-gazebo-odometry-starts-late-2025-db3"
 TRIANGLE = "ros2-neato-gazebo-drawing-triangle-2025-db3"
 FRUITS = "ros1-eyrc-krishibot-gazebo-four-trees-fruit-detections-2022-bag"
 TWO_SOURCES = "ros1-eyrc-krishibot-gazebo-two-joint-state-sources-2022-bag"
+NAN_AT_THE_END = "ros1-eyrc-krishibot-gazebo-fruit-nan-at-the-end-2022-bag"
+STANDING = "ros2-turtlebot4-real-standing-two-static-publishers-2022-db3"
+LINEAR_PATH = "ros2-turtlebot3-gazebo-clock-linear-path-2022-db3"
 
 
 def _findings(tfx: Tfx, path: Path, code: str) -> list[dict[str, Any]]:  # noqa: F811
@@ -107,3 +110,37 @@ def test_echo_inside_a_detections_long_gap_says_it_interpolates_across_it(corpus
     result = tfx("echo", "camera_depth_frame2", "fruit_red_1", "-b", bag, "--at", "23.529")
     assert result.code == 0, result.stderr
     assert "the lookup falls where camera_depth_frame2 -> fruit_red_1 had no sample for 13.987 s" in result.stderr
+
+
+def test_a_detection_ending_in_nan_is_stale_beneath_the_refusal_and_its_joints_told_joint_states(
+    corpus: Corpus,
+    tfx: Tfx,  # noqa: F811
+) -> None:
+    """fruit_red's last 33 transforms NaN, their stamps going on: said 'stopped advancing at 50.489, re-sent to the
+    end' with a stalled localizer's hint. The arm's joints arriving in pairs were told a USB driver's batches."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[NAN_AT_THE_END]), "--format", "json").stdout)["bags"]
+    (stale,) = [f for f in bag["findings"] if f["code"] == "stale" and f["frames"][-1] == "fruit_red"]
+    assert "holds nothing newer than 50.489 (+50.4 s): the 33 transforms sent after it" in stale["message"], stale
+    assert "re-sent" not in stale["message"] and "stalled localizer" not in stale["hint"]
+    (refused,) = [f for f in bag["findings"] if f["code"] == "invalid_values" and f["frames"][-1] == "fruit_red"]
+    assert stale["cause"] == refused["key"] and refused["key"], (stale["cause"], refused["key"])
+    joints = [f for f in bag["findings"] if f["code"] == "rate" and not f["frames"][-1].startswith("fruit_")]
+    assert joints and all(f["hint"].startswith("robot_state_publisher sends a joint's transform") for f in joints)
+
+
+def test_a_few_scans_waiting_are_all_within_and_the_conflict_names_the_values_kept(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """A real TurtleBot 4's 116 scans were '99.9% within 0.115 s' (99.9% of 116 is all of them); its static
+    conflict ended 'tf2 keeps the last received for every time: publisher 2's', read as cut off."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[STANDING]), "--format", "json").stdout)["bags"]
+    (waiting,) = [f for f in bag["findings"] if f["code"] == "sensor_wait"]
+    assert "(all within 0.115 s)" in waiting["message"] and "99.9%" not in waiting["message"], waiting["message"]
+    (conflict,) = [f for f in bag["findings"] if f["code"] == "static_conflict"]
+    assert conflict["message"].endswith("tf2 keeps the values last received for every time: publisher 2's")
+
+
+def test_imu_messages_before_tf_are_said_left_out_of_the_wait(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """The simulated TurtleBot3's first 5 IMU messages, stamped before its odometry's first, vanished from wtf's
+    counts ('5168 of 5280 waited' beside 107 on arrival)."""
+    (bag,) = json.loads(tfx("wtf", corpus(BY_ID[LINEAR_PATH]), "--format", "json").stdout)["bags"]
+    (imu,) = [f for f in bag["findings"] if f["code"] == "sensor_wait" and f["message"].startswith("/imu:")]
+    assert imu["message"].endswith("(5 stamped before the recording's tf of their chain began: undecided, left out)")

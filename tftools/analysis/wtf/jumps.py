@@ -481,22 +481,28 @@ MESSAGES_AT_ONCE = 1 << 19
 
 
 def joint_edges(scene: Scene) -> set[tuple[str, str]]:
-    """A state publisher's joints (``_joints``), found once per scene."""
-    return scene.shared("joints", lambda: _joints(scene))
+    """A state publisher's joints (``_sent_together``) and those turning in place (``_turning_in_place``), found once
+    per scene."""
+    return scene.shared("joints", lambda: sent_together(scene) | _turning_in_place(scene))
 
 
-def _joints(scene: Scene) -> set[tuple[str, str]]:
+def sent_together(scene: Scene) -> set[tuple[str, str]]:
+    """The moving edges sent in messages with others (``_sent_together``: a state publisher's joints, whose rhythm is
+    its /joint_states'), found once per scene."""
+    return scene.shared("sent together", lambda: _sent_together(scene))
+
+
+def _sent_together(scene: Scene) -> set[tuple[str, str]]:
     """The moving edges sent in messages that carry other edges too (one publisher, one record time and
-    stamp), at least ``JOINT_SHARE`` of the time: a state publisher's joints, not a localizer's output; and
-    those turning in place (``_turning_in_place``). Not an edge under odom that shares its messages with edges
-    under map alone: a localizer sending map -> odom and odom -> base in one message (cartographer providing
-    the odom frame), whose steps are corrections, not a state publisher's joints sampled too sparsely."""
-    turning = _turning_in_place(scene)
+    stamp), at least ``JOINT_SHARE`` of the time: a state publisher's joints, not a localizer's output. Not an
+    edge under odom that shares its messages with edges under map alone: a localizer sending map -> odom and
+    odom -> base in one message (cartographer providing the odom frame), whose steps are corrections, not a state
+    publisher's joints sampled too sparsely."""
     rows = scene.rows
     moving = rows.usable & ~rows.static
     records = rows.record_time.whole()
     if not (records > 0).all():
-        return turning
+        return set()
     spans = _record_spans(records, int(np.count_nonzero(moving)))
     del records  # each edge's own record times instead: the whole column beside every edge's rows held 66 MB
     edges: list[tuple[str, str, int]] = []  # each edge and its count of rows
@@ -507,7 +513,7 @@ def _joints(scene: Scene) -> set[tuple[str, str]]:
         for span, (lo, hi) in zip(parts, spans, strict=True):
             span.append(_recorded_in(times, mine, lo, hi).astype(np.int32))
     if len(edges) < 2:
-        return turning
+        return set()
     beyond_map = np.array([base_name(p) != MAP for p, _, _ in edges])
     shared = np.zeros(len(edges), np.int64)  # each edge's transforms in messages that carry other edges too
     beside = np.zeros(len(edges), bool)  # sent in a message with another edge not under map
@@ -520,7 +526,7 @@ def _joints(scene: Scene) -> set[tuple[str, str]]:
         (p, c)
         for i, (p, c, count) in enumerate(edges)
         if int(shared[i]) / count >= JOINT_SHARE and (base_name(p) != ODOM or bool(beside[i]))
-    } | turning
+    }
 
 
 def _messages_shared(rows: Rows, parts: list[Int32Array], beyond_map: BoolArray) -> tuple[Int64Array, BoolArray]:

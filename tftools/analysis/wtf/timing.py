@@ -10,7 +10,7 @@ import numpy as np
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import APART_DEG, APART_M, inferred_edges, sent_before
-from tftools.analysis.wtf.jumps import joint_edges
+from tftools.analysis.wtf.jumps import sent_together
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, transforms
@@ -483,10 +483,12 @@ def _rhythm(
             message, hint = f"{what} publishes irregularly: {runs[0]}", runs[1]
             yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
             return
+        joint = frames in sent_together(scene)  # its rhythm is /joint_states': what robot_state_publisher is sent
         batches = _batches(intervals, step, usual)
         if batches is not None:
+            hint = _joint_rhythm(scene) if joint else BATCHED
             yield Finding(
-                Severity.warning, code, f"{what} {batches}", BATCHED, frames, who, span[0], span[1], len(arrivals)
+                Severity.warning, code, f"{what} {batches}", hint, frames, who, span[0], span[1], len(arrivals)
             )
             return
         message = (
@@ -497,7 +499,7 @@ def _rhythm(
         )
         hint = (
             _joint_rhythm(scene)
-            if frames in joint_edges(scene)
+            if joint
             else "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
         )
     yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
