@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from tftools.analysis.findings import counted
 from tftools.cli import live, options
 from tftools.cli.arguments import positive_seconds
 from tftools.cli.common import stdout, warn
@@ -198,6 +197,7 @@ def _not_a_recording(arguments: list[str]) -> None:
 
 def _positional(arguments: list[str], degrees: bool = False) -> Transform:
     """static_transform_publisher's positional forms; tf1's trailing period is accepted and ignored."""
+    from tftools.analysis.findings import counted
     from tftools.sinks.static import static_transform
 
     with_period = len(arguments) == 10 or (len(arguments) == 9 and not _is_number(arguments[6]))
