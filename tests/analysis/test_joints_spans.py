@@ -1,4 +1,4 @@
-"""``jumps._joints`` compares messages a span of record times at a time (``MESSAGES_AT_ONCE``: 4.1M transforms'
+"""``jumps._sent_together`` compares messages a span of record times at a time (``MESSAGES_AT_ONCE``: 4.1M transforms'
 message keys held 0.4 GB at once): the edges it finds are those it finds in one span."""
 
 from __future__ import annotations
@@ -31,4 +31,8 @@ def test_joints_found_a_span_at_a_time_are_those_of_one_span(monkeypatch: pytest
     assert len(jumps._record_spans(scene.rows.record_time.whole(), total)) >= min(spans, 100)
     # the arm's two joints share every message, and map -> odom the localizer's; but odom -> base_link, under
     # odom, shares its messages with map's edge alone: a localizer's pair, not a state publisher's joint
-    assert jumps._joints(scene) == {("base_link", "wheel"), ("wheel", "finger"), ("map", "odom")}
+    assert jumps._sent_together(scene) | jumps._turning_in_place(scene) == {
+        ("base_link", "wheel"),
+        ("wheel", "finger"),
+        ("map", "odom"),
+    }

@@ -78,4 +78,4 @@ def test_the_timeout_for_waits_under_a_tick_is_one_tick_not_0_s() -> None:
     report = filter_streams(rec.buffer, [stream], FilterQuery(target="odom"), tick=rec.timeline.record_step)
     assert "to keep 99.9%: wait under one 0.100 s tick" in " ".join(_text(report).split())
     (wait,) = [f for f in findings_of(Scene(rec, streams=[stream])) if f.code == "sensor_wait"]
-    assert "99.9% under one 0.100 s tick" in wait.message and "a timeout of at least 0.100 s" in wait.hint
+    assert "all under one 0.100 s tick" in wait.message and "a timeout of at least 0.100 s" in wait.hint
