@@ -192,11 +192,15 @@ class Rows:
         for _, child, rows in self._layout.groups(mask, by_parent=False):
             yield self.names[child], rows
 
+    def of_edge(self, parent: str, child: str) -> IntpArray:
+        """The rows of ``parent -> child`` on /tf, in record order."""
+        key = self.names.index(parent) << 32 | self.names.index(child)
+        return np.flatnonzero((self._edge_keys == key) & ~self.static)
+
     def edge_publishers(self, parent: str, child: str) -> Iterator[tuple[int, IntpArray]]:
         """(publisher, rows) for each publisher of ``parent -> child`` on /tf, by publisher id, each one's rows
         in record order: the edge as each of its publishers sent it."""
-        key = self.names.index(parent) << 32 | self.names.index(child)
-        mine = np.flatnonzero((self._edge_keys == key) & ~self.static)
+        mine = self.of_edge(parent, child)
         authority = self.authority[mine]
         for publisher in distinct(authority.astype(np.int64)).tolist():
             yield publisher, mine[authority == publisher]

@@ -58,7 +58,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
     for s in scene.stats:
         latest[s.child] = max(latest.get(s.child, 0), _last_arrival(s), last_sent.get(s.key, 0))
     for s in scene.stats:
-        arrived_after: dict[str, float | int | str] = {}
+        figures: dict[str, float | int | str] = {}
         if s.static or max(_last_arrival(s), last_sent.get(s.key, 0)) < latest[s.child]:
             continue  # a frame that went on under another parent has not stopped
         # re-sent after its last new transform (ROS 2's tf2 stores an identical one once): it did not stop
@@ -99,7 +99,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
                 f"after it, stamped up to {scene.at(last)}, {'were' if count > 1 else 'was'} refused by tf2 for "
                 f"{'their values' if count > 1 else 'its value'} (invalid_values)"
             )
-            arrived_after["refused_after"] = count
+            figures["refused_after"] = count
             hint = (
                 "lookups after its last valid transform fail with 'Lookup would require extrapolation into the "
                 "future': send no transform where its value is unknown (a detector without a depth reading), or "
@@ -121,11 +121,10 @@ def stale(scene: Scene) -> Iterator[Finding]:
         if before_end is not None:
             message += f", {duration(before_end / NS_PER_S)} before the recording ends"
         # how long after its stamp its last sample arrived: which clock its stamps are on (a replay's)
-        arrived = arrived_after
         if s.last_record:
-            arrived["arrival_minus_stamp_s"] = (s.last_record - s.last_stamp) / NS_PER_S
+            figures["arrival_minus_stamp_s"] = (s.last_record - s.last_stamp) / NS_PER_S
         found = Finding(severity, "stale", message, hint, s.key, s.authorities, s.last_stamp, scene.end, s.count)
-        yield dataclasses.replace(found, figures=arrived)
+        yield dataclasses.replace(found, figures=figures)
 
 
 def _refused_after(scene: Scene, s: EdgeStats) -> tuple[int, int] | None:
@@ -133,14 +132,11 @@ def _refused_after(scene: Scene, s: EdgeStats) -> tuple[int, int] | None:
     a real e-Yantra fruit detection's 33 last, their stamps going on): how many, and the last one's stamp. None
     where some were usable (re-sent ones: the stamp stood still)."""
     rows = scene.rows
-    for parent, child, mine in rows.by_edge(~rows.static):
-        if (parent, child) != s.key:
-            continue
-        after = mine[scene.received(mine) > s.last_record] if s.last_record else mine[:0]
-        if not len(after) or rows.usable[after].any():
-            return None
-        return len(after), int(rows.stamp[after].max())
-    return None
+    mine = rows.of_edge(*s.key)
+    after = mine[scene.received(mine) > s.last_record] if s.last_record else mine[:0]
+    if not len(after) or rows.usable[after].any():
+        return None
+    return len(after), int(rows.stamp[after].max())
 
 
 def _last_sighting(scene: Scene, s: EdgeStats, by: str, why: str, seen: Sightings | None) -> tuple[str, str]:
