@@ -393,3 +393,28 @@ def test_transforms_without_frames_are_counted_but_name_no_edge() -> None:
     buffer.insert(builder.take())
     (publisher,) = monitor_buffer(buffer, window=TimeWindow(by_record_time=True)).authorities
     assert (publisher.messages, publisher.edges) == (6, (("world", "drone"),))
+
+
+def test_a_publisher_of_one_shot_frames_has_no_rate(tmp_path: Path) -> None:
+    """KB_2546's /picknplace: two fruits placed once each, 1 ms apart, beside a 10 Hz robot. The edges have no
+    rhythm ("-"), nor has their publisher: not 1000 messages a second."""
+    messages = [
+        TfMessage(
+            "/tf",
+            START + k * 100 * MS + MS,
+            [Transform((k, 0, 0), (0, 0, 0, 1), START + k * 100 * MS, "map", "base")],
+            "/robot",
+        )
+        for k in range(20)
+    ]
+    for k, fruit in enumerate(("fruit_red", "fruit_yellow")):
+        placed = START + 500 * MS + k * MS
+        messages.append(
+            TfMessage("/tf", placed, [Transform((1, k, 0), (0, 0, 0, 1), placed, "base", fruit)], "/picknplace")
+        )
+    bag = write_bag(tmp_path / "one_shot.bag", sorted(messages, key=lambda m: m.record_time))
+    report = monitor(read_recording([bag]), MonitorQuery())
+    publishers = {a.authority: a for a in report.authorities}
+    assert publishers["/picknplace"].once and publishers["/picknplace"].messages == 2
+    assert not publishers["/robot"].once
+    assert publishers["/robot"].rate_hz == pytest.approx(10.0, rel=1e-9)

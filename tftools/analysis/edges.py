@@ -149,6 +149,9 @@ class AuthorityStats:
     #: holds static though sent on /tf. Where some are, its delay and its edges' may differ, each right.
     delays_counted: int = 0
     delays_beyond_edges: int = 0
+    #: Each frame it sent on /tf came once in the window (one-shot transforms): its messages have no rhythm, and
+    #: a rate over two of them 1 ms apart would say 1000 a second.
+    once: bool = False
 
 
 def edge_stats(buffer: Buffer, window: TimeWindow = WHOLE) -> list[EdgeStats]:
@@ -197,6 +200,7 @@ def authority_stats(
     aparts: dict[int, int] = {}
     edges: dict[int, list[tuple[str, str]]] = {}
     beyond: dict[int, int] = {}  # how many of each publisher's delays no edge's delay holds
+    repeated: set[int] = set()  # the publishers that sent some frame on /tf more than once in the window
     timed: dict[int, list[str]] = {}  # the moving children whose delays each publisher's figure holds
     untimed: dict[int, list[str]] = {}  # and those it does not
     arrived: list[_Arrived] = []  # the rows, for a guess of the messages where ``sent`` does not tell them
@@ -214,6 +218,8 @@ def authority_stats(
             if sent is None:
                 arrived.append((a, hist.static, hist.record_times[mine], hist.stamps[mine]))
                 arrived += [(a, hist.static, extra[1], extra[2])] if extra is not None else []
+            if not hist.static and np.count_nonzero(mine) + (len(extra[1]) if extra is not None else 0) > 1:
+                repeated.add(a)
             measured, unstored_measured = _sent_delays(child, hist, mine, timeline, extra)
             delays.setdefault(a, []).append(measured)
             beyond[a] = beyond.get(a, 0) + (len(measured) if hist.static else unstored_measured)
@@ -226,6 +232,8 @@ def authority_stats(
         # the edge's only rows of this publisher were not stored (a live buffer keeps no cache ROS 2's tf2 replaced)
         if (index := known.get(name)) is not None:
             arrived.append((index, was_static, times, stamps))
+            if not was_static and len(times) > 1:
+                repeated.add(index)
             # a transform without frames names no edge (foxglove-wizard's drone.mcap: 17 default-made ones)
             edges.setdefault(index, []).extend([(parent, child)] if parent and child else [])
             unheld = timeline.delays(child, stamps, times, _topic_flags(was_static, len(stamps)))
@@ -245,6 +253,7 @@ def authority_stats(
             ),
             delays_counted=sum(len(d) for d in delays[a]),
             delays_beyond_edges=beyond.get(a, 0),
+            once=a not in repeated,
         )
         for a in sorted(edges, key=lambda a: buffer.authorities[a])
     ]

@@ -137,7 +137,7 @@ def _authorities(
         node = Text(printable(a.authority) or "?", style="magenta")
         figures = [
             Text(str(a.messages)),
-            Text("static", style="cyan") if a.static else Text(f"{a.rate_hz:.2f}"),
+            Text("static", style="cyan") if a.static else Text("-" if a.once else f"{a.rate_hz:.2f}"),
             *_delay_cells(a.delay_mean, a.delay_max, a.apart),
         ]
         children = list(dict.fromkeys(printable(child) for _, child in a.edges))  # a frame under two parents: once
@@ -336,7 +336,8 @@ def _authority_dict(a: AuthorityStats) -> dict[str, Any]:
     return {
         "authority": a.authority,
         "messages": a.messages,
-        "rate_hz": None if a.static else a.rate_hz,  # only /tf_static messages: "static" in the table
+        # only /tf_static messages ("static" in the table), or one-shot frames ("-"): no rhythm
+        "rate_hz": None if a.static or a.once else a.rate_hz,
         "delay_mean_s": seconds(a.delay_mean),
         "delay_max_s": seconds(a.delay_max),
         "delay_unmeasurable": _unmeasurable(a.delay_mean, a.apart),
