@@ -46,10 +46,11 @@ class EdgeSamples(Edge):
     flags: UInt8Array  # ``EdgeHistory.flags``
     authorities: tuple[str, ...]
 
-    def finding(self, severity: Severity, code: str, message: str, hint: str, stamps: Int64Array) -> Finding:
-        """A finding about this edge's samples stamped ``stamps``."""
-        first, last = int(stamps.min()), int(stamps.max())
-        return Finding(severity, code, message, hint, self.key, self.authorities, first, last, len(stamps))
+    def finding(self, severity: Severity, code: str, message: str, hint: str, times: Int64Array) -> Finding:
+        """A finding about this edge's samples at ``times``: their stamps, or when they arrived (on the stamps'
+        clock) where the message says so."""
+        first, last = int(times.min()), int(times.max())
+        return Finding(severity, code, message, hint, self.key, self.authorities, first, last, len(times))
 
     def recorded_at(self, stamp: int) -> int:
         """The record time of its sample stamped ``stamp`` (0: none, or unknown): where that one sample arrived."""

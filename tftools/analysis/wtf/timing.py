@@ -342,7 +342,7 @@ def delay(scene: Scene) -> Iterator[Finding]:
             "a node looking it up at a fresh sensor stamp fails with 'extrapolation into the future' unless it "
             f"waits: use a tf2_ros MessageFilter or lookupTransform with a timeout (canTransform), and find what "
             f"delays it ({causes})",
-            stamps[late],
+            records[late],
         )
         figures: dict[str, float | int | str] = {
             "late_s_min": f.floor / NS_PER_S,
@@ -351,18 +351,33 @@ def delay(scene: Scene) -> Iterator[Finding]:
         yield dataclasses.replace(finding, figures=figures)
 
 
+#: The times nothing of an edge arrived ``delay`` names one by one, longest first; more are counted.
+HELD_BACK_NAMED = 3
+
+
 def _held_back(scene: Scene, stamps: Int64Array, records: Int64Array) -> str:
-    """The longest time nothing of an edge arrived, where its stamps went on meanwhile (a real drone's tf over WiFi:
-    12.0 s without a sample, those stamped meanwhile arriving together after it): the samples were held back on
-    their way, which the late ones' largest delays are; nothing where its stamps paused as long (``rate``'s)."""
+    """The times nothing of an edge arrived while its stamps went on (a real drone's tf over WiFi: 12.0 s without
+    a sample, those stamped meanwhile arriving together after it; a Pioneer's link to its recorder stalled twice,
+    12.3 and 7.7 s): the samples were held back on their way, which the late ones' largest delays are. Each such
+    stall is longer than the gap threshold and twice the longest pause of the stamps; none where the stamps paused
+    as long (``rate``'s)."""
     if len(records) < 2:
         return ""
-    longest, start = longest_interval(np.sort(records))
-    if longest <= from_sec(scene.thresholds.max_gap) or longest_interval(np.sort(stamps))[0] * 2 > longest:
+    arrived = np.sort(records)
+    intervals = np.diff(arrived)
+    floor = max(from_sec(scene.thresholds.max_gap), longest_interval(np.sort(stamps))[0] * 2)
+    stalls = np.flatnonzero(intervals > floor)
+    if not len(stalls):
         return ""
+    stalls = stalls[np.argsort(-intervals[stalls], kind="stable")]
+    named = " and ".join(
+        f"for {duration(intervals[i] / NS_PER_S)} from {scene.at(int(arrived[i]))}" for i in stalls[:HELD_BACK_NAMED]
+    )
+    more = len(stalls) - HELD_BACK_NAMED
+    counted_more = f" ({counted(more, 'more time')}, shorter)" if more > 0 else ""
     return (
-        f"; none arrived for {duration(longest / NS_PER_S)} from {scene.at(start)} while its stamps went "
-        "on: the samples stamped meanwhile were held back on their way, and came late together"
+        f"; none arrived {named}{counted_more} while its stamps went on: the samples stamped meanwhile were held "
+        "back on their way, and came late together"
     )
 
 
