@@ -15,24 +15,26 @@ from tftools.sources.recording import read_recording
 MS = scenes.MS
 START = scenes.START
 STALLS = ((40_000 * MS, 52_300 * MS), (70_000 * MS, 77_700 * MS))  # nothing recorded meanwhile
+HICCUPS = ((20_000 * MS, 21_500 * MS), (85_000 * MS, 86_200 * MS))  # a WiFi link's short ones beside them
 
 
-def _arrival(sent: int) -> int:
+def _arrival(sent: int, stalls: tuple[tuple[int, int], ...] = STALLS) -> int:
     """At once, except from a stall on: those held back then arrive in order when it ends, 100 times faster than
     they were sent, until the link has caught up."""
     arrival = sent
-    for begin, end in STALLS:
+    for begin, end in sorted(stalls):
         if sent >= START + begin:
             arrival = max(sent, START + end + (sent - START - begin) // 100)
     return arrival
 
 
-def _odometry(seconds: int = 100) -> list[TfMessage]:
+def _odometry(seconds: int = 100, stalls: tuple[tuple[int, int], ...] = STALLS) -> list[TfMessage]:
     messages = []
     for i in range(seconds * 10):
         stamp = START + i * 100 * MS
         moved = scenes._t("odom", "base_link", stamp, 0.01 * i)
-        messages.append(TfMessage("/tf", _arrival(stamp + 40 * MS), [moved], "/p2os"))  # sent 40 ms after its stamp
+        sent = stamp + 40 * MS
+        messages.append(TfMessage("/tf", _arrival(sent, stalls), [moved], "/p2os"))
     return sorted(messages, key=lambda m: m.record_time)
 
 
@@ -57,3 +59,10 @@ def test_a_delay_is_timed_when_its_late_transforms_arrived(tmp_path: Path) -> No
     assert START + STALLS[0][1] <= first_late_arrival < START + STALLS[0][1] + MS
     assert late.first_time == first_late_arrival, (late.first_time, first_late_arrival)
     assert late.last_time >= START + STALLS[1][1]  # the second stall's backlog, on arrival
+
+
+def test_stalls_much_shorter_than_the_longest_are_counted(tmp_path: Path) -> None:
+    late = _delay(tmp_path, _odometry(stalls=STALLS + HICCUPS))
+    assert "none arrived for 12.4 s from 1700000039.94" in late.message, late.message
+    assert "and for 7.8 s from 1700000069.94" in late.message
+    assert "(and 2 shorter times, of 1.3 s to 1.6 s) while its stamps went on" in late.message, late.message

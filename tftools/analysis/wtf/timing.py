@@ -351,8 +351,10 @@ def delay(scene: Scene) -> Iterator[Finding]:
         yield dataclasses.replace(finding, figures=figures)
 
 
-#: The times nothing of an edge arrived ``delay`` names one by one, longest first; more are counted.
-HELD_BACK_NAMED = 3
+#: The stalls ``delay`` names one by one, longest first: those at least this share of the longest, up to
+#: ``STALLS_NAMED``; shorter ones are counted with their range (a WiFi link's hiccups of 1-2 s beside its 12 s outage).
+STALL_SHARE = 0.5
+STALLS_NAMED = 3
 
 
 def _held_back(scene: Scene, stamps: Int64Array, records: Int64Array) -> str:
@@ -370,14 +372,15 @@ def _held_back(scene: Scene, stamps: Int64Array, records: Int64Array) -> str:
     if not len(stalls):
         return ""
     stalls = stalls[np.argsort(-intervals[stalls], kind="stable")]
-    named = " and ".join(
-        f"for {duration(intervals[i] / NS_PER_S)} from {scene.at(int(arrived[i]))}" for i in stalls[:HELD_BACK_NAMED]
-    )
-    more = len(stalls) - HELD_BACK_NAMED
-    counted_more = f" ({counted(more, 'more time')}, shorter)" if more > 0 else ""
+    lengths = intervals[stalls]
+    named = stalls[: STALLS_NAMED][lengths[:STALLS_NAMED] >= STALL_SHARE * lengths[0]]
+    said = " and ".join(f"for {duration(intervals[i] / NS_PER_S)} from {scene.at(int(arrived[i]))}" for i in named)
+    rest = lengths[len(named) :]
+    spread = " to ".join(dict.fromkeys(duration(v / NS_PER_S) for v in (rest.min(), rest.max()))) if len(rest) else ""
+    shorter = f" (and {counted(len(rest), 'shorter time')}, of {spread})" if len(rest) else ""
     return (
-        f"; none arrived {named}{counted_more} while its stamps went on: the samples stamped meanwhile were held "
-        "back on their way, and came late together"
+        f"; none arrived {said}{shorter} while its stamps went on: the samples stamped meanwhile were held back on "
+        "their way, and came late together"
     )
 
 
