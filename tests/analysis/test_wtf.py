@@ -33,7 +33,7 @@ from tests.analysis.wtf_scenes import (
 )
 from tests.bags import TfMessage
 from tftools.analysis.findings import Finding, Severity, causes
-from tftools.analysis.wtf import CHECKS, Scene, Thresholds, findings_of
+from tftools.analysis.wtf import CHECKS, Scene, Thresholds, findings_of, timing
 from tftools.analysis.wtf.fleet import check
 from tftools.analysis.wtf.query import CheckQuery
 from tftools.analysis.wtf.rows import rows_of
@@ -793,3 +793,16 @@ def test_steady_stamps_received_in_bursts_are_no_irregular_rate() -> None:
     dropped = np.random.default_rng(7).random(100) < 0.3
     stutter = [m for m in bursts if not dropped[round((m.transforms[0].stamp - START) / NS_PER_S * 10) % 100]]
     assert "publishes irregularly" in only(check(recording(healthy(amcl=stutter))).findings, "rate").message
+
+
+def test_stamps_off_their_places_now_and_then_are_a_steady_rate() -> None:
+    """e-Yantra's Gazebo arms (Sahayak Bot 2020, Krishi Bot 2022): /joint_states every 20 ms, one in five or six
+    stamped 13-14 ms early (20, 7, 33, 20 ms apart), received by a recorder reading simulated time in steps (its
+    arrivals in batches): 'comes in batches' on twelve edges of one steady source. Samples stamped off their places
+    alone keep the count and two periods a pair: steady. A second source's samples among them (more than the period
+    gives) are not; nor is a marker seen in irregular bursts (tests/analysis/test_detections.py)."""
+    period, samples = 20 * MS, np.arange(1000)
+    jittered = START + samples * period - np.where(samples % 6 == 3, 13 * MS, 0)
+    assert timing._steady(jittered)
+    second = START + np.arange(0, 1000 * period, 7 * period) + 9 * MS  # every 140 ms, 9 ms after a sample
+    assert not timing._steady(np.sort(np.concatenate([jittered, second, second + 3 * MS])))

@@ -117,7 +117,9 @@ def test_a_detection_ending_in_nan_is_stale_beneath_the_refusal_and_its_joints_t
     tfx: Tfx,  # noqa: F811
 ) -> None:
     """fruit_red's last 33 transforms NaN, their stamps going on: said 'stopped advancing at 50.489, re-sent to the
-    end' with a stalled localizer's hint. The arm's joints arriving in pairs were told a USB driver's batches."""
+    end' with a stalled localizer's hint. The arm's joints arriving in pairs were told a USB driver's batches, then
+    (round 50) /joint_states' rhythm; their stamps are one source's, every 20 ms, one in five 14 ms early: no rate
+    warning at all (round 51, tests/analysis/test_wtf.py's jittered stamps)."""
     (bag,) = json.loads(tfx("wtf", corpus(BY_ID[NAN_AT_THE_END]), "--format", "json").stdout)["bags"]
     (stale,) = [f for f in bag["findings"] if f["code"] == "stale" and f["frames"][-1] == "fruit_red"]
     assert "holds nothing newer than 50.489 (+50.4 s): the 33 transforms sent after it" in stale["message"], stale
@@ -125,7 +127,7 @@ def test_a_detection_ending_in_nan_is_stale_beneath_the_refusal_and_its_joints_t
     (refused,) = [f for f in bag["findings"] if f["code"] == "invalid_values" and f["frames"][-1] == "fruit_red"]
     assert stale["cause"] == refused["key"] and refused["key"], (stale["cause"], refused["key"])
     joints = [f for f in bag["findings"] if f["code"] == "rate" and not f["frames"][-1].startswith("fruit_")]
-    assert joints and all(f["hint"].startswith("robot_state_publisher sends a joint's transform") for f in joints)
+    assert not joints, [f["message"] for f in joints]
 
 
 def test_a_few_scans_waiting_are_all_within_and_the_conflict_names_the_values_kept(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
