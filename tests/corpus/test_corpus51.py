@@ -1,6 +1,7 @@
 """What round 51's scouts found on recordings nobody here had seen (a real Pioneer P3-DX's p2os odometry whose link
-to the recorder stalled twice), fixed on the recording that showed it; the designed reproductions are beside the
-code's own tests (tests/analysis/test_delay_stalls.py)."""
+to the recorder stalled twice; e-Yantra's Sahayak Bot and Agri Bot in Gazebo), fixed on the recording that showed
+it; the designed reproductions are beside the code's own tests (tests/analysis/test_delay_stalls.py, test_wtf.py,
+test_detections.py)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,9 @@ from tests.cli.conftest import Tfx, tfx  # noqa: F401 (the fixture)
 from tests.corpus.recordings import BY_ID, Corpus
 
 TWO_STALLS = "ros1-pioneer-p2os-teleop-two-link-stalls-2025-bag"
+SAHAYAK = "ros1-eyrc-sahayak-ur5-gazebo-stamps-off-their-places-2021-bag"
+AGRIBOT = "ros1-eyrc-agribot-gazebo-detections-named-by-list-place-2021-bag"
+ARM = ("base_link", "shoulder_link")
 
 
 def _findings(tfx: Tfx, path: Path, code: str) -> list[dict[str, Any]]:  # noqa: F811
@@ -29,3 +33,19 @@ def test_both_stalls_of_the_pioneers_link_are_told_and_timed_on_arrival(corpus: 
         "its stamps went on" in late["message"]
     ), late["message"]
     assert "first at 1747072700.125" in late["message"] and round(late["first_time"], 3) == 1747072700.125, late
+
+
+def test_one_steady_source_stamped_off_its_places_arriving_in_batches_has_no_rate(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Sahayak Bot's 12 joints, every 20 ms with one sample in six 13 ms early, recorded off a stepped simulated
+    clock: 'comes in batches' with /joint_states' two sources blamed, on every edge."""
+    assert not _findings(tfx, corpus(BY_ID[SAHAYAK]), "rate")
+
+
+def test_detections_unseen_together_are_no_stall_and_two_joint_sources_still_told(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Agri Bot's detector names its tomatoes obj0..obj43 by their place in a list: 16 stalls were told of them
+    ('look for what these publishers share') while the detector went on. Its arm's joints, fed by two /joint_states
+    sources, are still told so."""
+    bag = corpus(BY_ID[AGRIBOT])
+    assert not _findings(tfx, bag, "stall")
+    arm = [f for f in _findings(tfx, bag, "rate") if tuple(f["frames"]) == ARM]
+    assert arm and "publishes irregularly" in arm[0]["message"], arm

@@ -13,7 +13,7 @@ import numpy as np
 
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.registry import register
-from tftools.analysis.wtf.scene import Scene, duration, edge, listed
+from tftools.analysis.wtf.scene import EdgeSamples, Scene, duration, edge, listed
 from tftools.core.arrays import BoolArray, Int32Array, Int64Array
 from tftools.core.figures import pause_rows, record_span
 from tftools.core.time import NS_PER_S, from_sec
@@ -109,10 +109,17 @@ class Pause:
     arrived: tuple[int, int]
 
 
+def _publishing(scene: Scene) -> list[EdgeSamples]:
+    """The moving edges a stall can stop: not a detector's, which it sends only while it sees what it detects (an
+    Agri Bot's 44 tomatoes, named by their place in a list, unseen together whenever the camera turned away)."""
+    detections = scene.detections
+    return [e for e in scene.dynamic_edges if e.key not in detections]
+
+
 def _pauses(scene: Scene) -> list[Pause]:
     floor = from_sec(scene.thresholds.max_gap)
     found = []
-    for e in scene.dynamic_edges:
+    for e in _publishing(scene):
         if len(e.stamps) < 3:
             continue
         for r in pause_rows(e.stamps, floor, record_span(e.record_times))[2].tolist():
@@ -126,7 +133,7 @@ def stalls(scene: Scene) -> list[list[Pause]]:
     (its first there), at least ``STALL_EDGES`` of them or every moving edge, and not all from one message
     stream (edges sent together pause together: that is one publisher's pause, which ``rate`` says)."""
     pauses = _pauses(scene)
-    moving = len({e.key for e in scene.dynamic_edges})
+    moving = len({e.key for e in _publishing(scene)})
     found, i = [], 0
     while i < len(pauses):
         window = [p for p in pauses[i:] if p.start - pauses[i].start <= STALL_WINDOW]
@@ -153,7 +160,7 @@ class Stall(NamedTuple):
 def stall(scene: Scene) -> Iterator[Finding]:
     """One finding for the stalls of the same edges that the record clock saw alike (a robot's link dropping out
     again and again is one problem), said with its own figures where one stands alone."""
-    moving = {e.key for e in scene.dynamic_edges}
+    moving = {e.key for e in _publishing(scene)}
     seen = [Stall(pauses, *_meanwhile(scene, pauses, len(pauses) == len(moving))) for pauses in stalls(scene)]
     runs: dict[tuple[frozenset[tuple[str, str]], str], list[Stall]] = {}
     for one in seen:
