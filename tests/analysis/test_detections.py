@@ -227,3 +227,17 @@ def test_markers_unseen_together_are_no_stall() -> None:
     seen = [s for s in np.arange(0.0, 10.0, 0.04) if not 3.0 <= s < 6.0]
     markers = [_seen(f"obj{n}", [s + n * 0.007 for s in seen], x=1.0 + n) for n in range(4)]
     assert not [f for f in _check(*markers) if f.code == "stall"]
+
+
+def test_a_detection_sent_at_its_cameras_origin_is_told_so() -> None:
+    """Agri Bot's detector (2021) sends (0, 0, 0) where it found no depth: 62% of its transforms put the tomato
+    at the camera, hopping 1 m to and from real sightings; the jumps were told as another object taken for it."""
+    messages = []
+    for i in range(250):
+        stamp = scenes.START + i * 40 * MS
+        found = (0.0, 0.0, 0.0) if i % 25 == 7 else (1.0, 0.1, 0.5)
+        seen = Transform(found, (0.0, 0.0, 0.0, 1.0), stamp, "camera", "obj2")
+        messages.append(TfMessage("/tf", stamp + 30 * MS, [seen], "/detector"))
+    jump = _of(_check(messages), "jump", "obj2")
+    assert jump.message.endswith("; 10 of its 250 transforms exactly at camera's origin (0, 0, 0)"), jump.message
+    assert jump.hint.startswith("a detector sending its camera's origin where it found nothing"), jump.hint

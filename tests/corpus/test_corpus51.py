@@ -49,3 +49,11 @@ def test_detections_unseen_together_are_no_stall_and_two_joint_sources_still_tol
     assert not _findings(tfx, bag, "stall")
     arm = [f for f in _findings(tfx, bag, "rate") if tuple(f["frames"]) == ARM]
     assert arm and "publishes irregularly" in arm[0]["message"], arm
+
+
+def test_a_detection_sent_at_its_cameras_origin_is_told_so_on_the_agribot(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """1984 of the detector's 3215 transforms put the tomato exactly at camera_link2's origin; obj2's jumps were told
+    as another object taken for it or a bad depth reading, the zeros unsaid."""
+    jumps = {f["frames"][-1]: f for f in _findings(tfx, corpus(BY_ID[AGRIBOT]), "jump")}
+    assert jumps["obj2"]["message"].endswith("; 188 of its 293 transforms exactly at camera_link2's origin (0, 0, 0)")
+    assert jumps["obj2"]["hint"].startswith("a detector sending its camera's origin where it found nothing")

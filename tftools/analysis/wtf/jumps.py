@@ -387,11 +387,35 @@ DETECTION_POSITION_JUMP = (
 )
 
 
+#: ``jump``'s hint for a detection sent at its camera's origin now and then: the detector's value for nothing found.
+DETECTION_AT_ORIGIN = (
+    "a detector sending its camera's origin where it found nothing (no depth, no object): tf2 takes each such "
+    "transform as the object at the camera, and a lookup between one and a real sighting lands halfway; send "
+    "nothing where nothing was found"
+)
+
+
 def _detection_hint(samples: EdgeSamples) -> str:
-    """A detection's steps in words: a marker's ambiguous pose where its rotation moves, else its position's."""
+    """A detection's steps in words: the origin sent for nothing found, a marker's ambiguous pose where its rotation
+    moves, else its position's."""
+    if _at_origin(samples):
+        return DETECTION_AT_ORIGIN
     rotations = samples.values[:, 3:]
     held = len(rotations) > 1 and bool(np.ptp(rotations, axis=0).max() == 0.0)
     return DETECTION_POSITION_JUMP if held else DETECTION_JUMP
+
+
+def _at_origin(samples: EdgeSamples) -> int:
+    """How many of an edge's samples put its child exactly at its parent's origin (a translation of 0, 0, 0)."""
+    return int(np.all(samples.values[:, :3] == 0.0, axis=1).sum())
+
+
+def _origin_in_words(samples: EdgeSamples) -> str:
+    """', 189 of its 294 transforms exactly at camera_link2's origin (0, 0, 0)', where a detection has any."""
+    n = _at_origin(samples)
+    if not n:
+        return ""
+    return f"; {n} of its {len(samples.values)} transforms exactly at {samples.parent}'s origin (0, 0, 0)"
 
 
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")
@@ -434,7 +458,8 @@ def jump(scene: Scene) -> Iterator[Finding]:
             f"further than its own motion explains in the time {'each' if len(found) > 1 else 'it'} took: the "
             f"largest {_largest(found)} in {took} at "
             f"{scene.at(int(when[found.largest]), samples.recorded_at(int(when[found.largest])))}, the first at "
-            f"{scene.at(int(when[0]), samples.recorded_at(int(when[0])))}",
+            f"{scene.at(int(when[0]), samples.recorded_at(int(when[0])))}"
+            + (_origin_in_words(samples) if detected is not None else ""),
             why,
             when,
         )
