@@ -395,10 +395,10 @@ DETECTION_AT_ORIGIN = (
 )
 
 
-def _detection_hint(samples: EdgeSamples) -> str:
-    """A detection's steps in words: the origin sent for nothing found, a marker's ambiguous pose where its rotation
-    moves, else its position's."""
-    if _at_origin(samples):
+def _detection_hint(samples: EdgeSamples, at_origin: int) -> str:
+    """A detection's steps in words: the origin sent for nothing found (``at_origin`` samples), a marker's ambiguous
+    pose where its rotation moves, else its position's."""
+    if at_origin:
         return DETECTION_AT_ORIGIN
     rotations = samples.values[:, 3:]
     held = len(rotations) > 1 and bool(np.ptp(rotations, axis=0).max() == 0.0)
@@ -410,12 +410,11 @@ def _at_origin(samples: EdgeSamples) -> int:
     return int(np.all(samples.values[:, :3] == 0.0, axis=1).sum())
 
 
-def _origin_in_words(samples: EdgeSamples) -> str:
-    """', 189 of its 294 transforms exactly at camera_link2's origin (0, 0, 0)', where a detection has any."""
-    n = _at_origin(samples)
-    if not n:
+def _origin_in_words(samples: EdgeSamples, at_origin: int) -> str:
+    """'; 188 of its 293 transforms exactly at camera_link2's origin (0, 0, 0)', where ``at_origin`` is any."""
+    if not at_origin:
         return ""
-    return f"; {n} of its {len(samples.values)} transforms exactly at {samples.parent}'s origin (0, 0, 0)"
+    return f"; {at_origin} of its {len(samples.values)} transforms exactly at {samples.parent}'s origin (0, 0, 0)"
 
 
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")
@@ -429,6 +428,8 @@ def jump(scene: Scene) -> Iterator[Finding]:
             found, when = _back_and_forth(samples.values, found, when)
             if not len(found):
                 continue
+        detected = scene.detections.get(samples.key)
+        at_origin = _at_origin(samples) if detected is not None else 0
         continuous = base_name(samples.parent) == ODOM and _carries_robot(scene, samples.child)
         why = (
             "REP 105 wants odom -> base continuous (odometry that never jumps): a reset odometry, or a "
@@ -440,11 +441,10 @@ def jump(scene: Scene) -> Iterator[Finding]:
             "(joint_state_publisher's defaults beside the driver's or the simulator's readings), or a driver "
             "resetting the joint; check who publishes /joint_states"
             if samples.key in joints
-            else _detection_hint(samples)
-            if samples.key in scene.detections
+            else _detection_hint(samples, at_origin)
+            if detected is not None
             else _correction_hint(scene, samples)
         )
-        detected = scene.detections.get(samples.key)
         what = f", a detection ({detected[0]})," if detected is not None else ""
         largest = int(found.at[found.largest])
         # a step is judged by its speed: without its interval, "the largest 12.9 degrees" (in 9 ms) beside a
@@ -458,8 +458,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
             f"further than its own motion explains in the time {'each' if len(found) > 1 else 'it'} took: the "
             f"largest {_largest(found)} in {took} at "
             f"{scene.at(int(when[found.largest]), samples.recorded_at(int(when[found.largest])))}, the first at "
-            f"{scene.at(int(when[0]), samples.recorded_at(int(when[0])))}"
-            + (_origin_in_words(samples) if detected is not None else ""),
+            f"{scene.at(int(when[0]), samples.recorded_at(int(when[0])))}" + _origin_in_words(samples, at_origin),
             why,
             when,
         )

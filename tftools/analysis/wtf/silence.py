@@ -112,8 +112,7 @@ class Pause:
 def _publishing(scene: Scene) -> list[EdgeSamples]:
     """The moving edges a stall can stop: not a detector's, which it sends only while it sees what it detects (an
     Agri Bot's 44 tomatoes, named by their place in a list, unseen together whenever the camera turned away)."""
-    detections = scene.detections
-    return [e for e in scene.dynamic_edges if e.key not in detections]
+    return scene.shared("publishing", lambda: [e for e in scene.dynamic_edges if e.key not in scene.detections])
 
 
 def _pauses(scene: Scene) -> list[Pause]:
