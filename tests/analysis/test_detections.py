@@ -3,6 +3,8 @@ robot's own edge that stops still said as a publisher that stopped (issue 39, DI
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -239,5 +241,40 @@ def test_a_detection_sent_at_its_cameras_origin_is_told_so() -> None:
         seen = Transform(found, (0.0, 0.0, 0.0, 1.0), stamp, "camera", "obj2")
         messages.append(TfMessage("/tf", stamp + 30 * MS, [seen], "/detector"))
     jump = _of(_check(messages), "jump", "obj2")
-    assert jump.message.endswith("; 10 of its 250 transforms exactly at camera's origin (0, 0, 0)"), jump.message
+    said = "; 10 of its 250 transforms exactly at camera's origin (0, 0, 0), stepping there or back 20 times"
+    assert jump.message.endswith(said), jump.message
     assert jump.hint.startswith("a detector sending its camera's origin where it found nothing"), jump.hint
+
+
+def test_a_detectors_objects_each_told_alike_are_one_finding_per_kind() -> None:
+    """Agri Bot's detector (2021) sent 44 tomatoes, each unseen, stale and hopping to the camera's origin alike: 109
+    warnings, one per object and kind. Each kind is one finding, the first object's, with the others beneath; a
+    second camera's markers are another detector's, and stay apart."""
+    seen = [s for s in np.arange(0.0, 8.0, 0.04) if not 3.0 <= s < 6.0]
+    markers = [_seen(f"obj{n}", [s + n * 0.007 for s in seen], x=1.0 + n) for n in range(4)]
+    its = _seen("obj9", [s + 0.013 for s in seen[:-5]])
+    other = [[dataclasses.replace(m, transforms=[_under("camera2", t) for t in m.transforms]) for m in its]]
+    found = _check(*markers, *other)
+    for code in ("stale", "rate"):
+        told = [f for f in found if f.code == code and f.frames[0] == "camera"]
+        assert len(told) == 4 and [bool(f.cause) for f in told] == [False, True, True, True], told
+        assert {f.cause for f in told[1:]} == {told[0].key}, told
+        (apart,) = [f for f in found if f.code == code and f.frames[0] == "camera2"]
+        assert not apart.cause and apart.key != told[0].key, apart
+        assert all(f.figures.get("detection") == 1 for f in (*told, apart))
+
+
+def _under(camera: str, seen: Transform) -> Transform:
+    return Transform(seen.translation, seen.rotation, seen.stamp, camera, seen.child_frame_id)
+
+
+def test_a_detection_seen_again_elsewhere_after_time_unseen_did_not_jump() -> None:
+    """Agri Bot's task 3.2 (2021): obj0 seen for 0.1 s, then 36.7 s later 0.41 m away, told 'jumped once further than
+    its own motion explains' in 36.724 s: where it went while unseen (the robot drove on; a detector naming by a
+    list's place gave the name to another tomato) is no step of its estimate. A step within a sighting still is."""
+    before = [s for s in np.arange(0.0, 3.0, 0.04)]
+    after = [s for s in np.arange(6.0, 10.0, 0.04)]
+    seen = _seen("marker_3", before, x=1.0) + _seen("marker_3", after, x=1.4)
+    assert not [f for f in _check(seen) if f.code == "jump"]
+    hopped = _seen("marker_4", before + after, x=1.0, hop_at=after[40])
+    assert [f.code for f in _check(hopped) if f.code == "jump"] == ["jump"]

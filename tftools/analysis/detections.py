@@ -20,6 +20,9 @@ from tftools.core.time import NS_PER_S
 #: ``tag0``, ``tag36h11:0``, ar_track_alvar's ``ar_marker_3``, aruco_detect's ``fiducial_12``), find_object_2d's
 #: ``object_1`` and the like (``obj_49``).
 DETECTOR_CHILD = re.compile(r"^(ar_)?(aruco_)?(marker|tag|fiducial|object|obj|apriltag|aruco)[\w:\-]*?\d+$", re.I)
+#: The figure that marks a finding about a detection (its value 1): a detector's edges, each told alike, are one
+#: detector's findings (``causes``).
+DETECTION = "detection"
 #: A parent frame that is a camera's (``camera``, ``camera_link``, ``head_camera_rgb_optical_frame``, ``cam0``).
 CAMERA_PARENT = re.compile(r"(camera|cam\d*|optical)", re.I)
 

@@ -362,6 +362,14 @@ class Sightings:
         return f"seen in {self.bursts} bursts, {within}{unseen}"
 
 
+def unseen_between(stamps: Int64Array, span: int = 0) -> BoolArray:
+    """Which intervals of a stream's sorted ``stamps`` part its bursts (``sightings``): ``MISSED`` times its
+    ``period`` or longer, on one time base (an interval ``across_clocks`` is none)."""
+    across, every = across_clocks(stamps, span), np.diff(stamps)
+    usual = period(every[~across])
+    return (every >= MISSED * usual) & ~across if usual else np.zeros(len(every), np.bool_)
+
+
 def sightings(stamps: Int64Array, span: int = 0) -> Sightings | None:
     """The one definition of a stream seen in bursts, over its sorted ``stamps`` (on one time base: an interval
     between two, ``across_clocks`` with the record ``span``, counts as neither): its intervals ``MISSED`` times
@@ -373,7 +381,7 @@ def sightings(stamps: Int64Array, span: int = 0) -> Sightings | None:
     across, every = across_clocks(stamps, span), np.diff(stamps)
     intervals = every[~across]
     usual = period(intervals)
-    apart: BoolArray = intervals >= MISSED * usual
+    apart = unseen_between(stamps, span)[~across]
     if not usual or not apart.any():
         return None
     within, whole = int(intervals[~apart].sum()), int(intervals.sum())

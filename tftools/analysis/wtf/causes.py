@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
+from tftools.analysis.detections import DETECTION
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.wtf.robots import robots_of
 from tftools.analysis.wtf.timing import SAME_CLOCK_S
@@ -232,6 +233,19 @@ def _under_it(first: Finding, finding: Finding) -> bool:
     return placed and finding.frames[0] == first.frames[1]
 
 
+def _detector(finding: Finding) -> tuple[tuple[str, str, tuple[str, ...]]] | tuple[()]:
+    """``_same_detector``'s key: a detection's finding's code, camera frame and publishers; none for another finding."""
+    if finding.figures.get(DETECTION) != 1 or not finding.frames:
+        return ()
+    return ((finding.code, finding.frames[0], finding.authorities),)
+
+
+def _same_detector(first: Finding, finding: Finding) -> bool:
+    """Findings of one kind about detections under the same camera frame by the same publishers: one detector's
+    way with what it sees (e-Yantra Agri Bot's 44 tomatoes, each unseen, stale and at the camera's origin alike)."""
+    return bool(_detector(first)) and _detector(first) == _detector(finding)
+
+
 @dataclass(frozen=True)
 class Rule:
     """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
@@ -414,6 +428,15 @@ RULES = (
         "waiting for the motion capture's world -> base_link): that edge's lag behind their stamps, said once with "
         "each stream beneath",
         keys=_frames,
+    ),
+    Rule(
+        frozenset({"jump", "stale", "rate"}),
+        frozenset({"jump", "stale", "rate"}),
+        _same_detector,
+        "detections under one camera frame by one publisher, each unseen, stale or jumping alike (a detector naming "
+        "what it sees by its place in a list: 44 tomatoes): one detector's way with what it sees, said once with "
+        "each object beneath",
+        keys=_detector,
     ),
     Rule(
         frozenset({"stall"}),

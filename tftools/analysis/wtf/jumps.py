@@ -10,6 +10,7 @@ from itertools import pairwise
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
+from tftools.analysis.detections import DETECTION
 from tftools.analysis.findings import Finding, Severity
 from tftools.analysis.frames import FrameTree
 from tftools.analysis.wtf.broadcasters import FLOOR_DEG, FLOOR_M, inferred_edges
@@ -17,7 +18,7 @@ from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows
 from tftools.analysis.wtf.scene import EdgeSamples, Scene, base_name, edge
 from tftools.core.arrays import BoolArray, FloatArray, Int32Array, Int64Array, IntpArray
-from tftools.core.figures import apart, held_apart, seconds_in_words
+from tftools.core.figures import apart, held_apart, seconds_in_words, unseen_between
 from tftools.core.time import NS_PER_S
 
 #: What "its own motion explains" means, defined once: a step may be this many times the speed its
@@ -58,6 +59,10 @@ class Jumps:
 
     def __len__(self) -> int:
         return len(self.at)
+
+    def only(self, kept: BoolArray) -> Jumps:
+        """The steps where ``kept``."""
+        return Jumps(self.at[kept], self.metres[kept], self.degrees[kept])
 
     @property
     def largest(self) -> int:
@@ -411,10 +416,15 @@ def _at_origin(samples: EdgeSamples) -> int:
 
 
 def _origin_in_words(samples: EdgeSamples, at_origin: int) -> str:
-    """'; 188 of its 293 transforms exactly at camera_link2's origin (0, 0, 0)', where ``at_origin`` is any."""
+    """'; 188 of its 293 transforms exactly at camera_link2's origin (0, 0, 0), stepping there or back 33 times',
+    where ``at_origin`` is any: each such step is a jump to the camera and back that its pace, learnt from them,
+    may not single out (Agri Bot's obj2 'jumped once')."""
     if not at_origin:
         return ""
-    return f"; {at_origin} of its {len(samples.values)} transforms exactly at {samples.parent}'s origin (0, 0, 0)"
+    there = np.all(samples.values[:, :3] == 0.0, axis=1)
+    steps = int(np.count_nonzero(there[1:] != there[:-1]))
+    said = f"; {at_origin} of its {len(samples.values)} transforms exactly at {samples.parent}'s origin (0, 0, 0)"
+    return said + (f", stepping there or back {_times(steps)}" if steps else "")
 
 
 @register("jump", Severity.warning, "an edge stepping further than its own motion explains")
@@ -429,6 +439,11 @@ def jump(scene: Scene) -> Iterator[Finding]:
             if not len(found):
                 continue
         detected = scene.detections.get(samples.key)
+        if detected is not None:  # where it went while unseen is no step of its estimate's (seen again elsewhere)
+            seen_through = ~unseen_between(samples.stamps)[found.at - 1]
+            found, when = found.only(seen_through), when[seen_through]
+            if not len(found):
+                continue
         at_origin = _at_origin(samples) if detected is not None else 0
         continuous = base_name(samples.parent) == ODOM and _carries_robot(scene, samples.child)
         why = (
@@ -451,7 +466,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
         # real ArUco marker's 22.8 degrees in 79 ms (five times the 90 degrees a second it turned for 0.4 s
         # explains that) read as a wrong figure
         took = seconds_in_words(int(samples.stamps[largest]) - int(samples.stamps[largest - 1]))
-        yield samples.finding(
+        found_jump = samples.finding(
             Severity.warning,
             "jump",
             f"{edge(*samples.key)}{scene.by(samples.authorities)}{what} jumped {_excursions(samples.values, found)} "
@@ -462,6 +477,7 @@ def jump(scene: Scene) -> Iterator[Finding]:
             why,
             when,
         )
+        yield replace(found_jump, figures={DETECTION: 1}) if detected is not None else found_jump
 
 
 def _correction_hint(scene: Scene, samples: EdgeSamples) -> str:
@@ -496,7 +512,7 @@ def _back_and_forth(values: FloatArray, found: Jumps, when: Int64Array) -> tuple
     begin = found.at - 1  # each step goes from sample ``begin`` to the next
     steps = np.full(len(begin), len(values) - 1)
     kept = comes_back(values, begin, begin, steps, found.metres, found.degrees).either
-    return Jumps(found.at[kept], found.metres[kept], found.degrees[kept]), when[kept]
+    return found.only(kept), when[kept]
 
 
 #: Transforms whose messages ``_joints`` compares at once, at most: a message is of one record time, so the

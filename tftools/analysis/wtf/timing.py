@@ -7,6 +7,7 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 
+from tftools.analysis.detections import DETECTION
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import APART_DEG, APART_M, inferred_edges, sent_before
@@ -75,6 +76,7 @@ def stale(scene: Scene) -> Iterator[Finding]:
             # what a detector sees comes and goes: lookups after its last sighting fail, but nothing stopped
             severity = Severity.warning
             message, hint = _last_sighting(scene, s, by, *detected)
+            figures[DETECTION] = 1
         elif s.count == 1:
             sent = scene.shared("arrivals", lambda: _sent(scene)).get(s.key, 1)
             where = by if by.startswith(" on ") else f" on /tf{by}"
@@ -451,6 +453,7 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
             f"{bursts}"
         )
         hint = DETECTION_GAPS
+    figures: dict[str, float | int | str] = {DETECTION: 1} if detected is not None else {}
     return Finding(
         Severity.warning,
         "rate",
@@ -461,6 +464,7 @@ def _silences(scene: Scene, e: EdgeSamples) -> Finding | None:
         found.first,
         found.last,
         found.count,
+        figures=figures,
     )
 
 
@@ -490,7 +494,18 @@ def _rhythm(
         detected = scene.detections.get(frames)
         if detected is not None and detected[1] is not None:  # seen in bursts: no period that few intervals keep
             message = f"{what}, a detection ({detected[0]}), is {detected[1].in_words()}"
-            yield Finding(Severity.warning, code, message, DETECTION_GAPS, frames, who, span[0], span[1], len(arrivals))
+            yield Finding(
+                Severity.warning,
+                code,
+                message,
+                DETECTION_GAPS,
+                frames,
+                who,
+                span[0],
+                span[1],
+                len(arrivals),
+                figures={DETECTION: 1},
+            )
             return
         runs = _paused_runs(intervals, step) if usual > (1 + IRREGULAR) * np.median(intervals) else None
         if runs is not None:
