@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 
 from tftools.analysis.detections import DETECTION
 from tftools.analysis.findings import Finding, Severity
+from tftools.analysis.wtf.joint_sources import JOINT_SOURCES
 from tftools.analysis.wtf.robots import robots_of
 from tftools.analysis.wtf.timing import SAME_CLOCK_S
 
@@ -246,6 +247,17 @@ def _same_detector(first: Finding, finding: Finding) -> bool:
     return bool(_detector(first)) and _detector(first) == _detector(finding)
 
 
+def _sources(finding: Finding) -> tuple[str] | tuple[()]:
+    """``_same_sources``' key: the publisher whose joints came in messages of two kinds (``joint_sources``)."""
+    publisher = finding.figures.get(JOINT_SOURCES)
+    return (publisher,) if isinstance(publisher, str) else ()
+
+
+def _same_sources(cause: Finding, finding: Finding) -> bool:
+    """Findings about joints of one publisher fed by two sources of joint states (``joint_sources``)."""
+    return bool(_sources(cause)) and _sources(cause) == _sources(finding)
+
+
 @dataclass(frozen=True)
 class Rule:
     """Findings of the codes ``follows`` follow from one of the codes ``causes`` when ``relates(cause, it)``."""
@@ -374,6 +386,15 @@ RULES = (
         "message sends (a ROS 2 bag names no node: a real JetAcker's two joints): one publisher's choice, said once "
         "with its edges beneath",
         keys=_publisher_or_change,
+    ),
+    Rule(
+        frozenset({"time_backwards"}),
+        frozenset({"time_backwards", "rate"}),
+        _same_sources,
+        "joints a state publisher sent in messages of two kinds carrying them alike (e-Yantra Agri Bot's arm: 12 "
+        "joints at 40 Hz, and 16 with the wheels at 10 Hz): two sources of joint states, whose stamps take turns "
+        "(out of order, repeated) and whose rhythms mix, said once with each joint beneath",
+        keys=_sources,
     ),
     Rule(
         frozenset({"time_backwards"}),

@@ -11,6 +11,7 @@ from tftools.analysis.detections import DETECTION
 from tftools.analysis.edges import EdgeStats
 from tftools.analysis.findings import Finding, Severity, counted
 from tftools.analysis.wtf.broadcasters import APART_DEG, APART_M, inferred_edges, sent_before
+from tftools.analysis.wtf.joint_sources import with_joint_sources
 from tftools.analysis.wtf.jumps import sent_together
 from tftools.analysis.wtf.registry import register
 from tftools.analysis.wtf.rows import Rows, split
@@ -516,9 +517,10 @@ def _rhythm(
         batches = _batches(intervals, step, usual)
         if batches is not None:
             hint = _joint_rhythm(scene) if joint else BATCHED
-            yield Finding(
+            found = Finding(
                 Severity.warning, code, f"{what} {batches}", hint, frames, who, span[0], span[1], len(arrivals)
             )
+            yield with_joint_sources(scene, found)
             return
         message = (
             f"{what} publishes irregularly: {_off_share(intervals, step, usual):.0%} of the intervals between its "
@@ -531,7 +533,9 @@ def _rhythm(
             if joint
             else "interpolation between far-apart samples is coarse: publish on a timer at a steady rate"
         )
-    yield Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
+    yield with_joint_sources(
+        scene, Finding(Severity.warning, code, message, hint, frames, who, span[0], span[1], len(arrivals))
+    )
 
 
 def _joint_rhythm(scene: Scene) -> str:
@@ -691,7 +695,7 @@ def time_backwards(scene: Scene) -> Iterator[Finding]:
     old = _old_data(scene)
     for child, mine in _streams(scene, rows.usable & ~rows.static):
         if child not in taking_turns and not scene.buffer.in_static_cache(child):
-            yield from _stamps_of(scene, child, mine, old[mine])
+            yield from (with_joint_sources(scene, f) for f in _stamps_of(scene, child, mine, old[mine]))
 
 
 def _old_data(scene: Scene) -> BoolArray:
