@@ -34,3 +34,26 @@ def test_a_camera_lost_with_the_frames_beneath_it_is_one_line() -> None:
         "camera_rgb",
         "camera_optical",
     )
+
+
+def _seen(child: str, parent: str = "camera", hz: float = 5.0) -> FrameShape:
+    return FrameShape(child, parent, rate_hz=hz, detection=True)
+
+
+def test_a_detectors_objects_lost_together_are_one_line_and_their_rates_no_difference() -> None:
+    """e-Yantra Agri Bot's two runs (2021): the detector named its tomatoes by their place in a list, obj0..obj43 in
+    one, obj0 and obj1 in the other: 42 'lost' lines, and obj0's '0.1 Hz in B, 4.8 Hz in A' (how often the camera
+    saw it). Detections lost under one camera are one line; their rates are no difference; a robot's frame is."""
+    camera = FrameShape("camera", "base_link", static=True, translation=(0.1, 0.0, 0.0), rotation=(0.0, 0.0, 0.0, 1.0))
+    wheel = FrameShape("wheel", "base_link", rate_hz=50.0)
+    a = [FrameShape("base_link", None), camera, wheel, *(_seen(f"obj{n}") for n in range(5))]
+    b = [FrameShape("base_link", None), camera, FrameShape("wheel", "base_link", rate_hz=10.0), _seen("obj0", hz=0.1)]
+    one, two = (TreeShape({f.frame: f for f in fs}, "here") for fs in (a, b))
+    found = whole_subtrees(compare(one, two, Tolerances()))
+    assert [(d.change, d.frame, d.said_with) for d in found] == [
+        (Change.rate, "wheel", ()),
+        (Change.lost, "obj1", ("obj2", "obj3", "obj4")),
+    ], found
+    assert describe(found[1]).endswith(
+        "not in B, nor 3 more detections of camera (a detector's, named as it names what it sees): obj2, obj3, obj4"
+    )

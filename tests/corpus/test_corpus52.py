@@ -54,3 +54,13 @@ def test_two_sources_of_joint_states_are_said_from_the_kinds_of_message_once(cor
     assert len(joints) == 36 and all(f["cause"] == cause["key"] for f in joints if f is not cause)
     kb = [f for f in _findings(tfx, corpus(BY_ID[KB_1133])) if f["code"] == "rate" and "irregularly" in f["message"]]
     assert kb and all("517 of 12 joints at 34.6 Hz and 137 of 16 at 9.2 Hz" in f["message"] for f in kb), kb
+
+
+def test_diff_of_two_agribot_runs_says_lost_detections_once(corpus: Corpus, tfx: Tfx) -> None:  # noqa: F811
+    """Task 3.1 against 3.2: 42 'lost' lines (obj2..obj43), and 'camera_depth_frame2 -> obj0 at 0.1 Hz in B, 4.8 Hz
+    in A' (how often the camera saw it), and a stop 35 s apart of a detection last seen then."""
+    got = json.loads(tfx("diff", corpus(BY_ID[AGRIBOT]), corpus(BY_ID[AGRIBOT_3_2]), "--format", "json").stdout)
+    changes = [(d["change"], d["frame"]) for d in got["differences"]]
+    assert not [c for c in changes if c[0] in ("rate", "stopped") and c[1].startswith("obj")], changes
+    (lost,) = [d for d in got["differences"] if d["change"] == "lost"]
+    assert len(lost["said_with"]) == 41 and "nor 41 more detections of camera_link2" in lost["message"], lost

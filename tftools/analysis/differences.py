@@ -308,13 +308,16 @@ def frame_differences(before: FrameShape, after: FrameShape, tolerances: Toleran
             kind = Change.reordered if _same_values(before, after, tolerances) else Change.moved
             found.append(Difference(kind, name, before, after, translation_mm=mm, rotation_deg=deg))
     else:
-        found.extend(_rates(before, after, tolerances))
+        # a detection's rate is how often it was seen, its end when last seen, its fixed parts the detector's
+        # (a rotation it never estimates): what the camera saw in each recording, not how the tree differs
+        detection = before.detection or after.detection
+        found.extend(_rates(before, after, tolerances) if not detection else [])
         counted = before.clocks is not None and after.clocks is not None and before.clocks != after.clocks
         if counted and not any(d.change is Change.clocks for d in found):
             found.append(Difference(Change.clocks, name, before, after))
-        if _stopped_apart(before, after):
+        if not detection and _stopped_apart(before, after):
             found.append(Difference(Change.stopped, name, before, after))
-    if not (before.static and after.static):
+    if not (before.static and after.static) and not (before.detection or after.detection):
         found.extend(_fixed_parts(before, after, tolerances))
     known = before.publishers is not None and after.publishers is not None
     if known and set(before.publishers or ()) != set(after.publishers or ()):
@@ -640,11 +643,17 @@ def _stopped_with(d: Difference, early: str, other: str) -> str:
 
 
 def _beneath_it(d: Difference, without: str, within: str) -> str:
-    """What is said with a frame lost or added: the frames beneath it, absent with it (``folded``), or its children
-    that are roots where it is absent (``said_with`` alone)."""
+    """What is said with a frame lost or added: the frames beneath it, absent with it (``folded``), the detections
+    of its parent absent with it (``subtrees.whole_subtrees``), or its children that are roots where it is absent
+    (``said_with`` alone)."""
     children = d.said_with
     if not children:
         return ""
+    shape = d.before or d.after
+    if d.folded and shape is not None and shape.detection and all(f.before or f.after for f in d.folded):
+        parent = shape.parent
+        which = "one more detection" if len(children) == 1 else f"{len(children)} more detections"
+        return f", nor {which} of {parent} (a detector's, named as it names what it sees): {', '.join(children)}"
     if d.folded:
         which = "the frame" if len(children) == 1 else f"the {len(children)} frames"
         return f", nor {which} beneath it: {', '.join(children)}"

@@ -10,6 +10,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 import numpy.typing as npt
 
+from tftools.analysis.detections import detected
 from tftools.analysis.edges import publishers
 from tftools.analysis.frames import FrameTree, tree_of
 from tftools.core.arrays import Int64Array
@@ -139,6 +140,9 @@ class FrameShape:
     #: Of a moving edge held still (``held``), what it is by the messages it came in (``joints``): a joint (True),
     #: a fixed part (False), or not known (None: a tree file, a URDF, an edge sent alone or with nothing that moves).
     joint: bool | None = None
+    #: Whether a moving edge is a detector's (``detections.detected``: a marker or object a camera sees and loses):
+    #: its rate is how often it was seen, its end when it was last seen, no publisher's.
+    detection: bool = False
 
 
 @dataclass(frozen=True)
@@ -200,6 +204,7 @@ def shape_of(recording: Recording, tree: FrameTree | None = None) -> TreeShape:
             epoch=_epoch(moving) if moving is not None else None,
             pace=_pace(moving) if moving is not None else None,
             tail=_tail(moving, summary.rate_hz, recording) if moving is not None else None,
+            detection=moving is not None and _detected(summary.parent, name, moving),
         )
     together = sent_together(buffer, frames)
     for name, joint in joints(together, frames).items():
@@ -340,6 +345,13 @@ def _pace(hist: EdgeHistory) -> float | None:
     if span <= 0 or time_bases(stamps, span) > 1:
         return None
     return float(stamps.max() - stamps.min()) / span
+
+
+def _detected(parent: str | None, child: str, hist: EdgeHistory) -> bool:
+    """Whether a moving edge from its latest parent is a detector's (``FrameShape.detection``)."""
+    mine = hist.parents == hist.latest_parent
+    stamps = np.sort(hist.stamps[mine])
+    return parent is not None and detected(parent, child, stamps, record_span(hist.record_times[mine])) is not None
 
 
 def _tail(hist: EdgeHistory, rate: float, recording: Recording) -> Tail | None:
