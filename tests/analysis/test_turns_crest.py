@@ -37,3 +37,19 @@ def test_a_one_sample_spike_among_steady_values_still_counts() -> None:
     """Held still, one sample 5 degrees off: a glitch, out and back from where the value stays."""
     headings = [0.0] * 10 + [5.0] + [0.0] * 10
     assert _alternating(_poses(headings, step_m=0.0)) == 1
+
+
+def test_a_noisy_estimate_going_out_and_back_no_further_than_its_own_step_visits_no_other_place() -> None:
+    """ros4hri's face detector (a ROS 2 copy of its test bag, 2022): a face's depth jitters 64 mm a sample either way
+    along the camera's ray, out and back as often as not, told "alternated between two places 49 times in 290 new
+    samples" and an error, three times. Noise goes out no further than the stream's own step; a second source
+    0.18 m off, taking turns with it (the JetAcker's two odometries), still counts."""
+    rng = np.random.default_rng(7)
+    face = np.zeros((290, 7))
+    face[:, 2] = 1.35 + rng.normal(0.0, 0.045, 290)
+    face[:, 6] = 1.0
+    assert _alternating(face) < 0.1 * len(face), _alternating(face)
+    two = face.copy()
+    two[:, 2] = 1.35 + rng.normal(0.0, 0.004, 290)  # an odometry's few millimetres a sample
+    two[1::5, 2] += 0.18  # one sample in five from a source 0.18 m further
+    assert _alternating(two) >= 0.15 * len(two), _alternating(two)
