@@ -25,6 +25,8 @@ class Listed(NamedTuple):
 
 def listed_publishers(qos: Mapping[str, OfferedQos], topic: str) -> Listed | None:
     """How many publishers of ``topic`` the recording's files list (``Recording.qos``), and where (the most, where
-    several files say); None where no file says."""
-    found = [Listed(q.counts[topic][1], q.source) for q in qos.values() if topic in q.counts]
+    several files say); None where no file says, or one lists none of a topic it holds messages of (a bag written
+    by a converter, rosbags' ``ros_distro: rosbags``: its messages had a publisher, which it did not list)."""
+    said = [q for q in qos.values() if topic in q.counts and not (q.counts[topic][1] == 0 < q.counts[topic][0])]
+    found = [Listed(q.counts[topic][1], q.source) for q in said]
     return max(found) if found else None
