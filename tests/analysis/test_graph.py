@@ -124,6 +124,20 @@ def test_several_parents_mark_the_edges_into_the_frame_only() -> None:
     assert pinned_nodes(graph, "multiple_parents") == set()
 
 
+def test_a_frame_on_both_topics_marks_the_edges_into_it_not_those_between_its_parents() -> None:
+    """ros4hri's RealSense (2022): camera_color_optical_frame under camera_color_frame on /tf_static, under camera_link
+    on /tf; view-frames drew camera_link -> camera_color_frame, a healthy /tf_static edge, red for mixed_static."""
+    buffer = healthy()
+    publish_static(buffer, "base_link", "camera_link")
+    publish_static(buffer, "camera_link", "camera_color_frame")
+    publish_static(buffer, "camera_color_frame", "optical")
+    publish(buffer, "camera_link", "optical", start_s=0.1)
+    graph = frame_graph(Scene(buffer))
+    assert "mixed_static" in codes(graph), codes(graph)
+    assert ("camera_link", "camera_color_frame") not in pinned_edges(graph, "mixed_static")
+    assert ("camera_link", "camera_color_frame") not in pinned_edges(graph, "multiple_parents")
+
+
 def test_several_publishers_of_one_edge_are_a_warning_on_that_edge() -> None:
     buffer = healthy()
     publish(buffer, "base_link", "wheel", hz=10, authority="/a")

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 #: Findings that name whole trees: only their roots are marked, not every edge inside.
 _TREE_CODES = frozenset({"disconnected"})
 #: Findings that name a child frame first, then its parents.
-_CHILD_FIRST_CODES = frozenset({"multiple_parents"})
+_CHILD_FIRST_CODES = frozenset({"multiple_parents", "mixed_static"})
 
 
 @dataclass(frozen=True)
