@@ -278,3 +278,22 @@ def test_a_detection_seen_again_elsewhere_after_time_unseen_did_not_jump() -> No
     assert not [f for f in _check(seen) if f.code == "jump"]
     hopped = _seen("marker_4", before + after, x=1.0, hop_at=after[40])
     assert [f.code for f in _check(hopped) if f.code == "jump"] == ["jump"]
+
+
+def test_a_tracked_persons_jump_under_map_is_not_said_to_be_the_robots_localization() -> None:
+    """ros4hri's person tracks (2022): map -> person_eloek stepped 0.155 m in 0.1 s, and the hint said to publish it
+    as map -> odom. A leaf under map that carries nothing and is named as no base may be something tracked; the
+    robot's base stepping in map keeps the localization hint."""
+
+    def walking(child: str) -> list[TfMessage]:
+        def pose(stamp: int) -> list[Transform]:
+            s = (stamp - scenes.START) / NS_PER_S
+            x = 0.1 * s + (0.5 if s >= 5.013 else 0.0)
+            return [Transform.from_rpy((x, 1.0, 0.0), (0.0, 0.0, 0.0), stamp, "map", child)]
+
+        return scenes.periodic("/tracker", 10, pose, phase=0.013)
+
+    (person,) = [f for f in _check(walking("person_eloek")) if f.code == "jump"]
+    assert "something tracked" in person.hint and person.hint.startswith("person_eloek carries no frame"), person.hint
+    (robot,) = [f for f in _check(walking("base_footprint")) if f.code == "jump"]
+    assert "something tracked" not in robot.hint, robot.hint

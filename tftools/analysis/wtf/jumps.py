@@ -484,6 +484,12 @@ def _correction_hint(scene: Scene, samples: EdgeSamples) -> str:
     """``jump``'s hint for an edge that is neither the robot's base, a joint nor a detection: publish a correction
     as map -> odom (REP 105), or where odom has its parent already and the edge hangs under it, under that parent."""
     above = scene.tree.ancestors(samples.parent) if base_name(samples.parent) == ODOM else []
+    if not above and not _carries_robot(scene, samples.child):
+        return (
+            f"{samples.child} carries no frame and is named as no robot's base: an estimate of something tracked (a "
+            "person, an object: a tracker's or a detector's steps, to filter) or of the robot localized (a "
+            "correction or a reset: publish it as map -> odom, REP 105, so that odom stays continuous)"
+        )
     if not above:
         return (
             "a localization correction or a reset published as this edge's motion: if it is a correction, publish "
